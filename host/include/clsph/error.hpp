@@ -1,0 +1,61 @@
+// Typed errors: every message says what went wrong in the user's terms (file and key, device,
+// OpenCL error name, kernel build log), so a host program can catch clsph::Error and print what().
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace clsph {
+
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// No OpenCL platform/device, or a device selection that matches nothing.
+class DeviceSelectionError : public Error {
+public:
+    using Error::Error;
+};
+
+// An OpenCL call failed; code() is the raw cl_int, the message names it (CL_OUT_OF_RESOURCES).
+class DeviceError : public Error {
+public:
+    DeviceError(int code, const std::string& message) : Error(message), code_(code) {}
+    int code() const noexcept { return code_; }
+
+private:
+    int code_;
+};
+
+// A kernel failed to compile: the message holds the file, the options, the device and the full log.
+class BuildError : public Error {
+public:
+    BuildError(std::string file, std::string options, std::string device, std::string log);
+    const std::string& file() const noexcept { return file_; }
+    const std::string& options() const noexcept { return options_; }
+    const std::string& device() const noexcept { return device_; }
+    const std::string& log() const noexcept { return log_; }
+
+private:
+    std::string file_, options_, device_, log_;
+};
+
+// A device allocation that would not fit: needed vs available, checked before the driver is asked.
+class OutOfDeviceMemory : public Error {
+public:
+    using Error::Error;
+};
+
+// A scene (file or built in code) that is malformed or physically impossible; names file and key.
+class SceneError : public Error {
+public:
+    using Error::Error;
+};
+
+// The simulation itself failed (non-finite values, density out of band): names step, time, particle.
+class SimulationError : public Error {
+public:
+    using Error::Error;
+};
+
+}  // namespace clsph

@@ -1,0 +1,90 @@
+// One OpenCL device as the engine drives it: its context, one in-order compute queue, its program
+// cache, its memory accounting, its launch profiler and its quirks. Several Devices (of any vendors)
+// live side by side in one process; nothing here is global.
+#pragma once
+#include "cl/cl.hpp"
+#include "cl/memory.hpp"
+#include "cl/profiler.hpp"
+#include "cl/program_cache.hpp"
+#include "cl/quirks.hpp"
+#include "clsph/devices.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace clsph::cl_rt {
+
+struct OpenOptions {
+    bool profiling = false;  // time every named launch (events, or host clocks where events lie)
+};
+
+class Device {
+public:
+    Device(DeviceInfo info, cl::Device device, cl::Context context, const OpenOptions& options);
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    const DeviceInfo& info() const { return info_; }
+    // "#1 pthread-skylake (Portable Computing Language)": how errors and logs name this device.
+    const std::string& label() const { return label_; }
+    const Quirks& quirks() const { return quirks_; }
+    cl::Context& context() { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+    const cl::Device& cl_device() const { return device_; }
+    MemoryTracker& memory() { return memory_; }
+    ProgramCache& programs() { return programs_; }
+    Profiler& profiler() { return profiler_; }
+
+    Buffer alloc(std::size_t bytes, const std::string& what, cl_mem_flags flags = CL_MEM_READ_WRITE) {
+        return memory_.allocate(bytes, what, flags);
+    }
+    cl::Kernel kernel(const std::string& file, const std::string& name, const std::string& options = {}) {
+        return programs_.kernel(file, name, options);
+    }
+
+    // Enqueues a named 1-D launch; the global size is padded up to a multiple of `local` (OpenCL
+    // 1.2 has no non-uniform work-groups), so kernels guard their index. Zero work is a no-op.
+    void launch(const std::string& name, cl::Kernel& kernel, std::size_t global, std::size_t local);
+
+    // The largest power-of-two work-group size <= cap this device allows.
+    std::size_t work_group_size(std::size_t cap = 256) const;
+
+    void finish();
+
+    // Typed upload/download helpers (blocking). Sizes in elements of T.
+    template <class T>
+    void write(Buffer& dst, const T* src, std::size_t count, std::size_t offset = 0) {
+        if (count) write_bytes(dst, src, count * sizeof(T), offset * sizeof(T));
+    }
+    template <class T>
+    void read(const Buffer& src, T* dst, std::size_t count, std::size_t offset = 0) {
+        if (count) read_bytes(src, dst, count * sizeof(T), offset * sizeof(T));
+    }
+    template <class T>
+    void fill(Buffer& dst, const T& value, std::size_t count, std::size_t offset = 0) {
+        if (count) fill_bytes(dst, &value, sizeof(T), count * sizeof(T), offset * sizeof(T));
+    }
+    void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t src_offset = 0, std::size_t dst_offset = 0);
+
+private:
+    void write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset);
+    void read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset);
+    void fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes, std::size_t offset);
+
+    DeviceInfo info_;
+    std::string label_;
+    Quirks quirks_;
+    cl::Device device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    MemoryTracker memory_;
+    ProgramCache programs_;
+    Profiler profiler_;
+};
+
+// Opens the devices a selection spec names (see clsph/devices.hpp), one context and one in-order
+// queue each, in the stable order.
+std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const OpenOptions& options = {});
+
+}  // namespace clsph::cl_rt

@@ -1,0 +1,44 @@
+// Per-launch names and times. With profiling on, each launch's time comes from its event, or from
+// host clocks around a finish() where the driver's timestamps are not trustworthy (quirks).
+#pragma once
+#include "cl/cl.hpp"
+
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace clsph::cl_rt {
+
+struct KernelStats {
+    std::size_t calls = 0;
+    double seconds = 0.0;
+};
+
+class Profiler {
+public:
+    explicit Profiler(bool host_timed) : host_timed_(host_timed) {}
+    bool enabled() const { return enabled_; }
+    void enable(bool on) { enabled_ = on; }
+    bool host_timed() const { return host_timed_; }
+
+    void add_event(const std::string& name, cl::Event event) { pending_.push_back({name, std::move(event)}); }
+    void add_seconds(const std::string& name, double s) {
+        auto& k = stats_[name];
+        k.calls += 1;
+        k.seconds += s;
+    }
+    // Waits for pending events and folds their times into the totals.
+    void collect();
+    const std::map<std::string, KernelStats>& stats() { collect(); return stats_; }
+    void clear() { pending_.clear(); stats_.clear(); }
+
+private:
+    struct Pending { std::string name; cl::Event event; };
+    bool host_timed_;
+    bool enabled_ = false;
+    std::vector<Pending> pending_;
+    std::map<std::string, KernelStats> stats_;
+};
+
+}  // namespace clsph::cl_rt

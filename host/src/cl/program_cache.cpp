@@ -1,0 +1,47 @@
+#include "cl/program_cache.hpp"
+
+#include "cl/errors.hpp"
+#include "cl/kernel_sources.hpp"
+#include "clsph/error.hpp"
+
+#include <functional>
+
+namespace clsph::cl_rt {
+
+ProgramCache::ProgramCache(cl::Context context, cl::Device device, std::string device_label)
+    : context_(std::move(context)), device_(std::move(device)), label_(std::move(device_label)) {}
+
+cl::Program& ProgramCache::program(const std::string& file, const std::string& options) {
+    const std::string source = kernel_source(file);
+    const std::string full_options = "-cl-std=CL1.2 " + options;
+    const std::string key = file + "|" + std::to_string(std::hash<std::string>{}(source)) + "|" + full_options;
+    if (auto it = programs_.find(key); it != programs_.end()) return it->second;
+
+    cl_int err = CL_SUCCESS;
+    cl::Program prog(context_, source, false, &err);
+    check(err, "creating program from " + file, label_);
+    try {
+        prog.build(std::vector<cl::Device>{device_}, full_options.c_str());
+    } catch (const cl::Error& e) {
+        std::string log;
+        try {
+            log = prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+        } catch (const cl::Error&) {
+            log = "(the driver gave no build log)";
+        }
+        if (e.err() != CL_BUILD_PROGRAM_FAILURE && e.err() != CL_INVALID_BUILD_OPTIONS)
+            log = error_name(e.err()) + "\n" + log;
+        throw BuildError(file, full_options, label_, log);
+    }
+    return programs_.emplace(key, std::move(prog)).first->second;
+}
+
+cl::Kernel ProgramCache::kernel(const std::string& file, const std::string& name, const std::string& options) {
+    cl::Program& prog = program(file, options);
+    cl_int err = CL_SUCCESS;
+    cl::Kernel k(prog, name.c_str(), &err);
+    check(err, "creating kernel '" + name + "' from " + file, label_);
+    return k;
+}
+
+}  // namespace clsph::cl_rt

@@ -1,0 +1,12 @@
+// Small kernels the runtime uses to check itself (and tests use to check the runtime).
+#include "shared.h"
+
+#ifdef CLSPH_SELFTEST_BROKEN
+this line is deliberately not OpenCL C, to exercise build-error reporting
+#endif
+
+__kernel void axpy(const uint n, const float a, __global const float* x, __global float* y) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    y[i] = a * x[i] + y[i];
+}

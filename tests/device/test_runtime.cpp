@@ -1,0 +1,170 @@
+#include "cl/errors.hpp"
+#include "clsph/devices.hpp"
+#include "clsph/error.hpp"
+#include "support/test_devices.hpp"
+
+#include <doctest/doctest.h>
+
+#include <vector>
+
+using namespace clsph;
+
+namespace {
+std::vector<DeviceInfo> fake_devices() {
+    auto make = [](std::size_t i, const char* platform, const char* vendor, const char* name, const char* type) {
+        DeviceInfo info;
+        info.index = i;
+        info.platform = platform;
+        info.vendor = vendor;
+        info.name = name;
+        info.type = type;
+        return info;
+    };
+    return {make(0, "NVIDIA CUDA", "NVIDIA Corporation", "H200", "gpu"),
+            make(1, "NVIDIA CUDA", "NVIDIA Corporation", "H200", "gpu"),
+            make(2, "Portable Computing Language", "The pocl project", "pthread-cpu", "cpu"),
+            make(3, "rusticl", "Mesa/X.org", "llvmpipe", "cpu")};
+}
+}  // namespace
+
+TEST_SUITE("runtime") {
+TEST_CASE("selection grammar") {
+    const auto d = fake_devices();
+    CHECK(select_devices(d, "all") == std::vector<std::size_t>{0, 1, 2, 3});
+    CHECK(select_devices(d, "gpu") == std::vector<std::size_t>{0, 1});
+    CHECK(select_devices(d, "cpu") == std::vector<std::size_t>{2, 3});
+    CHECK(select_devices(d, "") == std::vector<std::size_t>{0, 1});
+    CHECK(select_devices(d, "default") == std::vector<std::size_t>{0, 1});
+    CHECK(select_devices(d, "2,0") == std::vector<std::size_t>{0, 2});
+    CHECK(select_devices(d, "platform:pocl") == std::vector<std::size_t>{2});
+    CHECK(select_devices(d, "platform:Portable") == std::vector<std::size_t>{2});
+    CHECK(select_devices(d, "PLATFORM:mesa") == std::vector<std::size_t>{3});  // vendor matches too
+    CHECK(select_devices(d, "platform:pocl, 0") == std::vector<std::size_t>{0, 2});
+    CHECK_THROWS_AS(select_devices(d, "7"), DeviceSelectionError);
+    CHECK_THROWS_AS(select_devices(d, "platform:amd"), DeviceSelectionError);
+    CHECK_THROWS_AS(select_devices(d, "fast"), DeviceSelectionError);
+    CHECK_THROWS_AS(select_devices(d, "0,,1"), DeviceSelectionError);
+    // The error lists what exists.
+    try {
+        select_devices(d, "7");
+        FAIL("no throw");
+    } catch (const DeviceSelectionError& e) {
+        CHECK(std::string(e.what()).find("there is no device 7") != std::string::npos);
+        CHECK(std::string(e.what()).find("pthread-cpu") != std::string::npos);
+    }
+    // Default without GPUs falls back to CPUs.
+    auto cpus = d;
+    cpus[0].type = cpus[1].type = "cpu";
+    CHECK(select_devices(cpus, "default") == std::vector<std::size_t>{0, 1, 2, 3});
+}
+
+TEST_CASE("OpenCL errors are reported by name") {
+    CHECK(cl_rt::error_name(-5) == "CL_OUT_OF_RESOURCES");
+    CHECK(cl_rt::error_name(-11) == "CL_BUILD_PROGRAM_FAILURE");
+    CHECK(cl_rt::error_name(-9999).find("-9999") != std::string::npos);
+    try {
+        cl_rt::check(-4, "allocating", "dev0");
+        FAIL("no throw");
+    } catch (const DeviceError& e) {
+        CHECK(e.code() == -4);
+        CHECK(std::string(e.what()).find("CL_MEM_OBJECT_ALLOCATION_FAILURE") != std::string::npos);
+        CHECK(std::string(e.what()).find("dev0") != std::string::npos);
+    }
+}
+
+TEST_CASE("list_devices gives a stable order with full info") {
+    const auto a = list_devices();
+    const auto b = list_devices();
+    REQUIRE(a.size() == b.size());
+    REQUIRE(!a.empty());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        CHECK(a[i].index == i);
+        CHECK(a[i].name == b[i].name);
+        CHECK(a[i].platform == b[i].platform);
+        CHECK(a[i].compute_units > 0);
+        CHECK(a[i].global_memory > 0);
+        CHECK(a[i].max_allocation > 0);
+        CHECK(a[i].local_memory > 0);
+        CHECK(a[i].opencl_c_version.find("OpenCL C") == 0);
+    }
+    for (std::size_t i = 1; i < a.size(); ++i) CHECK(a[i - 1].platform <= a[i].platform);
+}
+
+TEST_CASE("kernels build, run and time on every device") {
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        const std::size_t n = 1000;
+        std::vector<float> x(n), y(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            x[i] = static_cast<float>(i);
+            y[i] = 1.0f;
+        }
+        auto bx = dev->alloc(n * sizeof(float), "x");
+        auto by = dev->alloc(n * sizeof(float), "y");
+        dev->write(bx, x.data(), n);
+        dev->write(by, y.data(), n);
+        auto k = dev->kernel("selftest.cl", "axpy");
+        k.setArg(0, static_cast<cl_uint>(n));
+        k.setArg(1, 2.0f);
+        k.setArg(2, bx.get());
+        k.setArg(3, by.get());
+        dev->profiler().enable(true);
+        dev->launch("selftest.axpy", k, n, dev->work_group_size(64));
+        dev->read(by, y.data(), n);
+        for (std::size_t i = 0; i < n; ++i) REQUIRE(y[i] == doctest::Approx(2.0f * static_cast<float>(i) + 1.0f));
+        const auto& stats = dev->profiler().stats();
+        REQUIRE(stats.count("selftest.axpy") == 1);
+        CHECK(stats.at("selftest.axpy").calls == 1);
+        CHECK(stats.at("selftest.axpy").seconds >= 0.0);
+        dev->profiler().clear();
+        dev->profiler().enable(false);
+        // The same program and options come from the cache.
+        const auto programs = dev->programs().size();
+        (void)dev->kernel("selftest.cl", "axpy");
+        CHECK(dev->programs().size() == programs);
+    }
+}
+
+TEST_CASE("a build failure carries file, options, device and log") {
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        try {
+            (void)dev->kernel("selftest.cl", "axpy", "-DCLSPH_SELFTEST_BROKEN");
+            FAIL("no throw");
+        } catch (const BuildError& e) {
+            CHECK(e.file() == "selftest.cl");
+            CHECK(e.options().find("-cl-std=CL1.2") != std::string::npos);
+            CHECK(e.options().find("CLSPH_SELFTEST_BROKEN") != std::string::npos);
+            CHECK(e.device() == dev->label());
+            CHECK(std::string(e.what()).find("build log") != std::string::npos);
+        }
+        CHECK_THROWS_AS((void)dev->kernel("no_such_file.cl", "x"), Error);
+    }
+}
+
+TEST_CASE("memory accounting tracks current and peak and refuses before the driver") {
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        auto& mem = dev->memory();
+        const auto base = mem.counters().current;
+        mem.reset_peak();
+        {
+            auto a = dev->alloc(1 << 20, "a");
+            auto b = dev->alloc(3 << 20, "b");
+            CHECK(mem.counters().current == base + (4u << 20));
+            a = cl_rt::Buffer();  // released
+            CHECK(mem.counters().current == base + (3u << 20));
+        }
+        CHECK(mem.counters().current == base);
+        CHECK(mem.counters().peak == base + (4u << 20));
+        try {
+            (void)dev->alloc(mem.max_allocation() + 1, "too big");
+            FAIL("no throw");
+        } catch (const OutOfDeviceMemory& e) {
+            CHECK(std::string(e.what()).find("too big") != std::string::npos);
+            CHECK(std::string(e.what()).find("largest single allocation") != std::string::npos);
+        }
+        CHECK(mem.counters().current == base);
+    }
+}
+}
