@@ -1,0 +1,58 @@
+// Data-parallel primitives on one device, in portable OpenCL C 1.2 (local memory and barriers, no
+// subgroups, no inter-work-group forward progress): radix sort of (key, value) pairs, exclusive
+// scan, stream compaction. Each object owns its scratch buffers (tracked by the device's memory
+// accounting, grown on demand, never shrunk) and its kernels (built once per device and options).
+#pragma once
+#include "cl/device.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace clsph::device {
+
+// Exclusive prefix sum of uint32 (wrapping on overflow, like std::exclusive_scan on uint32_t).
+class Scan {
+public:
+    explicit Scan(cl_rt::Device& device);
+    // out[i] = in[0] + ... + in[i-1] for i in [0, n], so out[n] is the total: `out` must hold n + 1
+    // elements. `in` and `out` may be the same buffer only if it holds n + 1 elements.
+    // Asynchronous: enqueued on the device's queue.
+    void exclusive(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n);
+    // As exclusive(), then reads back and returns the total (a blocking read of one uint).
+    std::uint32_t exclusive_total(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n);
+    std::size_t scratch_bytes() const;
+
+private:
+    struct Impl;
+    std::shared_ptr<Impl> impl_;
+};
+
+// Stable LSD radix sort of (uint32 key, uint32 value) pairs on the low `key_bits` bits of the key
+// (1..32; higher bits are ignored for ordering but kept). The sorted pairs end up in `keys` and
+// `values`: the sort ping-pongs between them and its own scratch buffers and may swap the Buffer
+// objects (so kernel arguments bound to them must be set again after a sort).
+class RadixSort {
+public:
+    explicit RadixSort(cl_rt::Device& device);
+    void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits);
+    std::size_t scratch_bytes() const;
+
+private:
+    struct Impl;
+    std::shared_ptr<Impl> impl_;
+};
+
+// Stream compaction: keeps the elements whose flag is non-zero, in order, and returns how many.
+class Compact {
+public:
+    explicit Compact(cl_rt::Device& device);
+    // out[j] = values[i] for the j-th i with flags[i] != 0; `out` must hold n elements.
+    std::size_t compact(const cl_rt::Buffer& flags, const cl_rt::Buffer& values, cl_rt::Buffer& out, std::size_t n);
+
+private:
+    struct Impl;
+    std::shared_ptr<Impl> impl_;
+};
+
+}  // namespace clsph::device
