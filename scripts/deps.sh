@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs the Debian packages clsph needs (as root), or prints the exact apt-get line and stops.
+# Sourced by scripts/run.sh and scripts/test.sh; safe to run alone.
+set -euo pipefail
+CLSPH_PACKAGES=(g++ cmake make ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd
+  mesa-opencl-icd libeigen3-dev doctest-dev nlohmann-json3-dev libcli11-dev gnuplot-nox)
+missing=()
+for p in "${CLSPH_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "clsph: installing ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -q >/dev/null
+    apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
+  else
+    echo "clsph: missing Debian packages. Install them with:" >&2
+    echo "  sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+fi
