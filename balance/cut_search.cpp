@@ -1,0 +1,186 @@
+#include "balance/cut_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace clsph::balance {
+
+ColumnSums::ColumnSums(const ColumnProfile& profile)
+    : work_(profile.work.size() + 1, 0.0), particles_(profile.work.size() + 1, 0) {
+  if (profile.particles.size() != profile.work.size())
+    throw std::invalid_argument("balance: column profile needs work and particles per column");
+  for (std::size_t c = 0; c < profile.work.size(); ++c) {
+    // Negative work would break the monotone prefix sums the search relies on.
+    work_[c + 1] = work_[c] + std::max(0.0, profile.work[c]);
+    particles_[c + 1] = particles_[c] + profile.particles[c];
+  }
+}
+
+std::size_t ColumnSums::furthest_end(std::size_t begin, double work_limit,
+                                     std::size_t capacity) const {
+  if (!(work_limit >= 0.0)) return begin;
+  const auto by_work =
+      std::upper_bound(work_.begin() + static_cast<std::ptrdiff_t>(begin), work_.end(),
+                       work_[begin] + work_limit) - work_.begin() - 1;
+  std::size_t end = static_cast<std::size_t>(by_work);
+  if (capacity > 0) {
+    const auto by_particles =
+        std::upper_bound(particles_.begin() + static_cast<std::ptrdiff_t>(begin), particles_.end(),
+                         particles_[begin] + capacity) - particles_.begin() - 1;
+    end = std::min(end, static_cast<std::size_t>(by_particles));
+  }
+  return end;
+}
+
+namespace {
+
+constexpr double unbounded = std::numeric_limits<double>::infinity();
+
+// The feasibility table for one step time T and the plan read back from it.
+class Search {
+ public:
+  Search(const std::vector<SlabCost>& devices, const ColumnSums& columns, std::size_t min_columns,
+         const std::vector<CutWindow>& windows)
+      : devices_(devices), columns_(columns), min_width_(std::max<std::size_t>(1, min_columns)),
+        windows_(windows),
+        reach_(devices.size() + 1, std::vector<char>(columns.columns() + 1, 0)) {}
+
+  // Fills reach_[k][c]: cut k may sit at column c and devices k.. can cover [c, N) within T.
+  bool feasible(double step_time) {
+    step_time_ = step_time;
+    const std::size_t n = columns_.columns(), count = devices_.size();
+    std::fill(reach_[count].begin(), reach_[count].end(), 0);
+    reach_[count][n] = 1;
+    std::vector<std::size_t> reachable_before(n + 2, 0);  // # reachable ends in [0, i)
+    for (std::size_t d = count; d-- > 0;) {
+      const std::vector<char>& next = reach_[d + 1];
+      for (std::size_t e = 0; e <= n; ++e) reachable_before[e + 1] = reachable_before[e] + next[e];
+      for (std::size_t c = 0; c <= n; ++c) {
+        char ok = 0;
+        if (allowed(d, c)) {
+          ok = next[c];  // device d idle
+          const std::size_t first = c + min_width_, last = furthest_end(d, c, step_time);
+          if (!ok && first <= last) ok = reachable_before[last + 1] > reachable_before[first];
+        }
+        reach_[d][c] = ok;
+      }
+    }
+    return reach_[0][0] != 0;
+  }
+
+  // Reads one plan out of the table of the last feasible() call: cut by cut, the reachable
+  // position closest to the preferred one.
+  std::vector<std::size_t> cuts_nearest(const std::vector<std::size_t>& preferred) const {
+    const std::size_t n = columns_.columns(), count = devices_.size();
+    std::vector<std::size_t> cuts(count + 1, 0);
+    for (std::size_t d = 0; d < count; ++d) {
+      const std::size_t c = cuts[d];
+      const std::vector<char>& next = reach_[d + 1];
+      const std::size_t want = preferred[d + 1];
+      std::size_t best = n + 1;  // none yet
+      auto consider = [&](std::size_t e) {
+        if (best > n || distance(e, want) < distance(best, want)) best = e;
+      };
+      const std::size_t first = c + min_width_, last = furthest_end(d, c, step_time_);
+      if (first <= last) {
+        // Walk outward from the preferred position clamped into [first, last].
+        const std::size_t start = std::clamp(want, first, last);
+        for (std::size_t e = start + 1; e-- > first;)
+          if (next[e]) { consider(e); break; }
+        for (std::size_t e = start; e <= last; ++e)
+          if (next[e]) { consider(e); break; }
+      }
+      if (next[c]) consider(c);
+      cuts[d + 1] = best;
+    }
+    return cuts;
+  }
+
+ private:
+  static std::size_t distance(std::size_t a, std::size_t b) { return a > b ? a - b : b - a; }
+
+  bool allowed(std::size_t cut, std::size_t c) const {
+    if (cut == 0) return c == 0;
+    if (cut == devices_.size()) return c == columns_.columns();
+    if (windows_.empty()) return true;
+    return windows_[cut].lo <= c && c <= windows_[cut].hi;
+  }
+
+  // Last end column of a non-empty slab of device d starting at c that fits in step_time (c when
+  // none fits).
+  std::size_t furthest_end(std::size_t d, std::size_t c, double step_time) const {
+    const SlabCost& cost = devices_[d];
+    if (step_time < cost.fixed_seconds) return c;
+    const double work_limit = cost.seconds_per_unit > 0.0
+                                  ? (step_time - cost.fixed_seconds) / cost.seconds_per_unit
+                                  : unbounded;
+    return columns_.furthest_end(c, work_limit, cost.capacity_particles);
+  }
+
+  const std::vector<SlabCost>& devices_;
+  const ColumnSums& columns_;
+  std::size_t min_width_;
+  const std::vector<CutWindow>& windows_;
+  std::vector<std::vector<char>> reach_;
+  double step_time_ = unbounded;  // of the last feasible() call
+};
+
+}  // namespace
+
+Plan place_cuts(const std::vector<SlabCost>& devices, const ColumnSums& columns,
+                std::size_t min_columns, const std::vector<std::size_t>& preferred,
+                const std::vector<CutWindow>& windows) {
+  if (devices.empty()) throw std::invalid_argument("balance: need at least one device");
+  if (preferred.size() != devices.size() + 1 ||
+      (!windows.empty() && windows.size() != devices.size() + 1))
+    throw std::invalid_argument("balance: preferred cuts and windows need devices+1 entries");
+
+  Search search(devices, columns, min_columns, windows);
+  Plan plan;
+  if (!search.feasible(unbounded)) return plan;
+
+  // Upper bound: any capacity-feasible plan runs no slower than the slowest device doing all the
+  // work alone. Doubling covers rounding at the edge.
+  double hi = 0.0;
+  for (const SlabCost& cost : devices)
+    hi = std::max(hi, cost.seconds(columns.work(0, columns.columns()), false));
+  hi = std::max(hi, 1e-300);
+  while (!search.feasible(hi)) hi *= 2.0;
+  double lo = 0.0;
+  for (int iteration = 0; iteration < 100 && hi - lo > 1e-9 * hi; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (search.feasible(mid) ? hi : lo) = mid;
+  }
+  search.feasible(hi);  // the table must describe hi, not the last (infeasible) midpoint
+
+  plan.feasible = true;
+  plan.cuts = search.cuts_nearest(preferred);
+  const std::vector<double> seconds = predicted_seconds(devices, columns, plan.cuts);
+  plan.makespan = *std::max_element(seconds.begin(), seconds.end());
+  return plan;
+}
+
+std::vector<double> predicted_seconds(const std::vector<SlabCost>& devices,
+                                      const ColumnSums& columns,
+                                      const std::vector<std::size_t>& cuts) {
+  std::vector<double> seconds(devices.size(), 0.0);
+  for (std::size_t d = 0; d < devices.size(); ++d)
+    seconds[d] = devices[d].seconds(columns.work(cuts[d], cuts[d + 1]), cuts[d] == cuts[d + 1]);
+  return seconds;
+}
+
+bool respects_guard_rails(const std::vector<SlabCost>& devices, const ColumnSums& columns,
+                          std::size_t min_columns, const std::vector<std::size_t>& cuts) {
+  for (std::size_t d = 0; d < devices.size(); ++d) {
+    if (cuts[d + 1] < cuts[d]) return false;
+    const std::size_t width = cuts[d + 1] - cuts[d];
+    if (width > 0 && width < min_columns) return false;
+    const std::size_t capacity = devices[d].capacity_particles;
+    if (capacity > 0 && columns.particles(cuts[d], cuts[d + 1]) > capacity) return false;
+  }
+  return true;
+}
+
+}  // namespace clsph::balance
