@@ -10,3 +10,13 @@ __kernel void axpy(const uint n, const float a, __global const float* x, __globa
     if (i >= n) return;
     y[i] = a * x[i] + y[i];
 }
+
+// Moves particles by v * dt in cell-offset space (the cell pass then settles them into cells):
+// the drift of the integrator without any physics, for pipeline tests.
+__kernel void drift(const uint n, const float dt, __global float4* pos, __global const float4* velrho) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 p = pos[i];
+    p.xyz += velrho[i].xyz * dt;
+    pos[i] = p;
+}

@@ -1,15 +1,36 @@
 // Structs and constants shared by host code and kernels: defined once, read by both compilers.
+// Only 4-byte members, so host and device layouts agree without padding rules.
 #ifndef CLSPH_SHARED_H
 #define CLSPH_SHARED_H
 
 #ifdef __OPENCL_VERSION__
-typedef uint cl_uint_t;
+typedef uint clsph_uint;
+typedef float clsph_float;
 #else
 #include <cstdint>
-typedef std::uint32_t cl_uint_t;
+typedef std::uint32_t clsph_uint;
+typedef float clsph_float;
 #endif
 
-// Key given to particles outside the domain: sorts after every valid cell key.
-#define CLSPH_INVALID_KEY 0xffffffffu
+// Key given to particles outside the domain is the all-ones value of the sorted bits (GridParams
+// key_bits), so it sorts after every cell key; valid keys never reach it (the b field is padded).
+
+// The uniform grid, axes in key order: s (split axis, most significant), a, b (least significant,
+// padded by one empty cell at each end so the three cells of a row never wrap into the next row).
+typedef struct {
+    clsph_float cell_s, cell_a, cell_b;  // cell edge per axis (>= kernel support)
+    clsph_uint n_s, n_a, n_b;            // cells per axis (b without its two pad cells)
+    clsph_uint shift_a, shift_s;         // key = s << shift_s | a << shift_a | (b + 1)
+    clsph_uint mask_a, mask_b;           // field masks after shifting down
+    clsph_float ext_s, ext_a, ext_b;     // domain extent per axis (particles beyond are outside)
+    clsph_uint periodic_a;               // 1 when axis a wraps around
+    clsph_uint invalid_key;              // all ones in key_bits: outside the domain
+} GridParams;
+
+// Particle type bits, in the top bits of the 32-bit id.
+#define CLSPH_TYPE_SHIFT 30u
+#define CLSPH_TYPE_FLUID 0u
+#define CLSPH_TYPE_BOUNDARY 1u
+#define CLSPH_ID_MASK 0x3fffffffu
 
 #endif

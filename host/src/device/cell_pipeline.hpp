@@ -1,0 +1,47 @@
+// One device's step pipeline up to the neighbour table (DESIGN.md "One device", stages 1-5):
+//   cells.keys     settle offsets into cells, key per particle (invalid outside the domain)
+//   sort           radix sort of (key, index) on the grid's key bits only
+//   reorder.*      every particle array into sorted order through the one scratch buffer
+//   cells.flag / cells.scan / cells.scatter   compaction: cell_key[K], cell_start[K+1]
+//   cells.ranges   each cell's 9 neighbour rows as particle ranges
+// After run(), particles outside the domain are gone (counted), and vals holds each particle's
+// cell index (the fine-grained neighbour loop reads it).
+#pragma once
+#include "cl/device.hpp"
+#include "device/grid.hpp"
+#include "device/particle_store.hpp"
+#include "device/primitives.hpp"
+
+namespace clsph::device {
+
+struct CellPassResult {
+    std::size_t cells = 0;    // non-empty cells
+    std::size_t active = 0;   // particles left
+    std::size_t removed = 0;  // particles that were outside the domain, now removed
+};
+
+class CellPipeline {
+public:
+    CellPipeline(cl_rt::Device& device, const Grid& grid);
+    CellPassResult run(ParticleStore& store);
+
+    std::size_t cells() const { return cells_; }
+    const cl_rt::Buffer& cell_key() const { return cell_key_; }
+    const cl_rt::Buffer& cell_start() const { return cell_start_; }
+    const cl_rt::Buffer& ranges() const { return ranges_; }
+    // Device bytes of the cell tables (they follow the number of non-empty cells, not the domain).
+    std::size_t table_bytes() const { return cell_key_.bytes() + cell_start_.bytes() + ranges_.bytes(); }
+
+private:
+    void reserve_cells(std::size_t k);
+    cl_rt::Device& device_;
+    const Grid& grid_;
+    RadixSort sort_;
+    Scan scan_;
+    std::size_t wg_;
+    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_;
+    cl_rt::Buffer cell_key_, cell_start_, ranges_, summary_;
+    std::size_t cell_capacity_ = 0, cells_ = 0;
+};
+
+}  // namespace clsph::device

@@ -1,0 +1,60 @@
+// The uniform cell grid of one simulation: which axis is split between devices, how many cells
+// each axis has, how a cell becomes a 32-bit key, and how a position in double becomes a
+// (cell, float offset from the cell centre) pair. Pure C++: no OpenCL here.
+//
+// Why cell-relative positions: a float absolute coordinate at x = 10 m has a resolution of ~1e-6 m,
+// so a particle moving 1e-8 m per step would never move. Offsets from the cell centre stay below
+// half a cell (a few mm), where float resolution is ~1e-10 m; the integer cell carries the rest.
+#pragma once
+#include "shared.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace clsph::device {
+
+struct Box {
+    std::array<double, 3> lo{0, 0, 0}, hi{1, 1, 1};
+};
+
+class Grid {
+public:
+    // support: the kernel's support radius (cell edges are at least this). split_axis -1 picks the
+    // longest axis. periodic[k] makes axis k wrap; only one non-split axis may be periodic, its
+    // extent must hold at least 3 cells, and its cells are stretched to divide it exactly.
+    // Throws SceneError when the domain needs more cells than 32-bit keys can name.
+    Grid(const Box& domain, double support, int split_axis = -1, std::array<bool, 3> periodic = {false, false, false});
+
+    const GridParams& params() const { return p_; }
+    const Box& domain() const { return domain_; }
+    // Axis (0 = x, 1 = y, 2 = z) of key position 0 = s, 1 = a, 2 = b.
+    int axis(int key_position) const { return axis_[key_position]; }
+    std::array<int, 3> axes() const { return axis_; }
+    unsigned key_bits() const { return key_bits_; }
+    std::uint64_t cell_count() const;
+    std::array<double, 3> cell_size_xyz() const;
+    bool periodic(int xyz) const { return periodic_[xyz]; }
+
+    // Cell coordinates (s, a, b) <-> key.
+    std::uint32_t key(std::uint32_t s, std::uint32_t a, std::uint32_t b) const;
+    std::array<std::uint32_t, 3> cell_of_key(std::uint32_t key) const;
+
+    // A position (xyz, double) as cell key + offset from the cell centre (xyz, float). Positions
+    // outside the domain (after periodic wrap) give invalid_key.
+    std::uint32_t locate(const std::array<double, 3>& x, std::array<float, 3>& offset) const;
+    // Back to an absolute position (double).
+    std::array<double, 3> position(std::uint32_t key, const std::array<float, 3>& offset) const;
+
+    // -D options telling kernels which xyz component each key axis is.
+    std::string kernel_options() const;
+
+private:
+    Box domain_;
+    GridParams p_{};
+    std::array<int, 3> axis_{0, 1, 2};
+    std::array<bool, 3> periodic_{false, false, false};
+    unsigned key_bits_ = 0;
+};
+
+}  // namespace clsph::device

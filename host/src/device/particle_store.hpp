@@ -1,0 +1,57 @@
+// The particles of one device in device memory, structure of arrays:
+//   pos     float4  offset from the cell centre (xyz) + cell key bits (w)   — see grid.hpp
+//   velrho  float4  velocity (xyz) + density (w)
+//   accel   float4  acceleration (xyz) + drho/dt (w); recomputed after every sort, never reordered
+//   id      uint    id (low 30 bits) + type (top 2 bits)
+//   keys, vals      sort keys and sort values / cell index per particle (capacity + 1 for the scan)
+//   scratch float4  the one rotating buffer through which arrays are reordered
+// Active particles occupy [0, active) in sorted order: ghosts of the device before, the owned
+// particles, ghosts of the device after — [ghosts | owned | ghosts], so one sort orders all of them
+// and the capacity beyond `active` is the reserve that arrivals and ghosts land in.
+#pragma once
+#include "cl/device.hpp"
+#include "clsph/particles.hpp"
+#include "device/grid.hpp"
+
+#include <cstddef>
+
+namespace clsph::device {
+
+struct ParticleRanges {
+    std::size_t ghosts_before = 0, owned = 0, ghosts_after = 0;
+    std::size_t active() const { return ghosts_before + owned + ghosts_after; }
+    std::size_t first_owned() const { return ghosts_before; }
+    std::size_t end_owned() const { return ghosts_before + owned; }
+};
+
+class ParticleStore {
+public:
+    // headroom: extra capacity fraction kept when growing (so buffers do not grow every step).
+    ParticleStore(cl_rt::Device& device, const Grid& grid, std::size_t capacity, double headroom = 0.25);
+
+    // Replaces the device's particles with `p` (all owned). Particles outside the domain are kept
+    // with an invalid key; the next cell pass removes and counts them.
+    void upload(const Particles& p);
+    // Host copy of the owned particles, in their current (sorted) order; pressure is left at 0
+    // (it is the physics' equation of state that knows it).
+    Particles download();
+
+    // Grows every array (keeping contents) so `n` particles fit; returns true if it reallocated.
+    bool reserve(std::size_t n);
+
+    cl_rt::Device& device() { return device_; }
+    const Grid& grid() const { return grid_; }
+    std::size_t capacity() const { return capacity_; }
+    ParticleRanges ranges;
+
+    cl_rt::Buffer pos, velrho, accel, id, keys, vals, scratch;
+
+private:
+    void allocate(std::size_t capacity);
+    cl_rt::Device& device_;
+    const Grid& grid_;
+    double headroom_;
+    std::size_t capacity_ = 0;
+};
+
+}  // namespace clsph::device

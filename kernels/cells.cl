@@ -1,0 +1,136 @@
+// The cell pipeline of one device: cell keys, reorder, compaction of non-empty cells, and each
+// cell's 9 neighbour rows as particle ranges. See host/src/device/cell_pipeline.cpp for the order.
+#include "grid.h"
+
+// Moves one axis' offset back into [-cell/2, cell/2) by changing the cell; returns false when the
+// particle leaves the domain along that axis.
+inline bool settle_axis(float* offset, uint* cell, const float cell_size, const uint count, const float extent,
+                        const uint periodic) {
+    const float shift = floor(*offset / cell_size + 0.5f);
+    int c = (int)(*cell) + (int)shift;
+    *offset -= shift * cell_size;
+    if (periodic) {
+        c %= (int)count;
+        if (c < 0) c += (int)count;
+    } else {
+        if (c < 0 || c >= (int)count) return false;
+        // The last cell may stick out past the domain's max face: that part is outside too.
+        if (((float)c + 0.5f) * cell_size + *offset > extent) return false;
+        if (((float)c + 0.5f) * cell_size + *offset < 0.0f) return false;
+    }
+    *cell = (uint)c;
+    return true;
+}
+
+// Each particle's offset is brought back inside its cell (the drift may have carried it out), its
+// key recomputed and written to pos.w and keys[]; vals[] = i for the sort. Outside the domain:
+// invalid_key, so the sort moves it to the end where it is removed and counted.
+__kernel void cell_keys(const uint n, const GridParams g, __global float4* pos, __global uint* keys,
+                        __global uint* vals) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 p = pos[i];
+    uint key = pos_key(p);
+    if (key != g.invalid_key) {
+        uint s = key_s(g, key), a = key_a(g, key), b = key_b(g, key);
+        float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
+        const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
+                            settle_axis(&oa, &a, g.cell_a, g.n_a, g.ext_a, g.periodic_a) &&
+                            settle_axis(&ob, &b, g.cell_b, g.n_b, g.ext_b, 0u);
+        key = inside ? make_key(g, s, a, b) : g.invalid_key;
+        S_OF(p) = os;
+        A_OF(p) = oa;
+        B_OF(p) = ob;
+        p.w = as_float(key);
+        pos[i] = p;
+    }
+    keys[i] = key;
+    vals[i] = i;
+}
+
+// dst[i] = src[order[i]]: one particle array into sorted order (through the rotating scratch).
+__kernel void gather_float4(const uint n, __global const uint* order, __global const float4* src,
+                            __global float4* dst) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    dst[i] = src[order[i]];
+}
+
+__kernel void gather_uint(const uint n, __global const uint* order, __global const uint* src, __global uint* dst) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    dst[i] = src[order[i]];
+}
+
+inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }
+
+// flags[i] = 1 where a new key begins. summary[1] = index of the first particle outside the domain
+// (left at n when there is none; the host fills it before).
+__kernel void flag_cells(const uint n, const uint invalid_key, __global const uint* keys, __global uint* flags,
+                         __global uint* summary) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const uint f = starts_cell(keys, i);
+    flags[i] = f;
+    if (f && keys[i] == invalid_key) summary[1] = i;
+}
+
+// After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and
+// cell_start[K] = n. Then scan[] is rewritten in place as the cell index of each particle.
+__kernel void scatter_cells(const uint n, __global const uint* keys, __global uint* scan, __global uint* cell_key,
+                            __global uint* cell_start) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const uint c = scan[i];
+    if (starts_cell(keys, i)) {
+        cell_key[c] = keys[i];
+        cell_start[c] = i;
+    }
+    if (i == n - 1u) cell_start[scan[n]] = n;
+}
+
+__kernel void cell_of_particle(const uint n, __global const uint* keys, __global uint* scan) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    scan[i] = scan[i] + starts_cell(keys, i) - 1u;  // each element reads and writes only itself
+}
+
+// First index in cell_key[0..k) whose key is >= want.
+inline uint lower_bound_key(__global const uint* cell_key, const uint k, const uint want) {
+    uint lo = 0, hi = k;
+    while (lo < hi) {
+        const uint mid = (lo + hi) >> 1;
+        if (cell_key[mid] < want) lo = mid + 1u; else hi = mid;
+    }
+    return lo;
+}
+
+// ranges[c * 9 + r] = [begin, end) of the particles in neighbour row r of cell c. A row is the
+// three cells b-1, b, b+1 at one (s + ds, a + da): consecutive keys thanks to the padding of b,
+// hence one contiguous particle range. Rows off the domain are empty; axis a wraps if periodic.
+__kernel void neighbour_ranges(const uint k, const GridParams g, __global const uint* cell_key,
+                               __global const uint* cell_start, __global uint2* ranges) {
+    const uint c = get_global_id(0);
+    if (c >= k) return;
+    const uint key = cell_key[c];
+    const int s = (int)key_s(g, key), a = (int)key_a(g, key);
+    const uint b = key_b(g, key);
+    for (int ds = -1; ds <= 1; ++ds) {
+        for (int da = -1; da <= 1; ++da) {
+            const uint r = (uint)((ds + 1) * 3 + (da + 1));
+            int s2 = s + ds, a2 = a + da;
+            if (g.periodic_a) {
+                if (a2 < 0) a2 += (int)g.n_a;
+                if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+            }
+            uint2 range = (uint2)(0u, 0u);
+            if (s2 >= 0 && s2 < (int)g.n_s && a2 >= 0 && a2 < (int)g.n_a) {
+                const uint mid = make_key(g, (uint)s2, (uint)a2, b);
+                const uint first = lower_bound_key(cell_key, k, mid - 1u);
+                const uint last = lower_bound_key(cell_key, k, mid + 2u);
+                range = (uint2)(cell_start[first], cell_start[last]);
+            }
+            ranges[c * 9u + r] = range;
+        }
+    }
+}

@@ -1,0 +1,52 @@
+// Grid helpers for kernels: key fields, axis mapping (AXIS_S/A/B given as -D), and the relative
+// position of two particles from their cells and cell-centre offsets.
+#ifndef CLSPH_GRID_H
+#define CLSPH_GRID_H
+#include "shared.h"
+
+#ifndef AXIS_S
+#define AXIS_S 0
+#define AXIS_A 1
+#define AXIS_B 2
+#endif
+
+// Component of a float4/float3 by xyz axis number known at compile time.
+#define COMP_0(v) ((v).x)
+#define COMP_1(v) ((v).y)
+#define COMP_2(v) ((v).z)
+#define COMP_(v, k) COMP_##k(v)
+#define COMP(v, k) COMP_(v, k)
+#define S_OF(v) COMP(v, AXIS_S)
+#define A_OF(v) COMP(v, AXIS_A)
+#define B_OF(v) COMP(v, AXIS_B)
+
+inline uint key_s(const GridParams g, uint key) { return g.shift_s >= 32u ? 0u : key >> g.shift_s; }
+inline uint key_a(const GridParams g, uint key) { return (key >> g.shift_a) & g.mask_a; }
+inline uint key_b(const GridParams g, uint key) { return (key & g.mask_b) - 1u; }
+inline uint make_key(const GridParams g, uint s, uint a, uint b) {
+    return (g.shift_s >= 32u ? 0u : (s << g.shift_s)) | (a << g.shift_a) | (b + 1u);
+}
+
+// The key of a particle is kept in pos.w (as bits), next to its offset from the cell centre.
+inline uint pos_key(const float4 p) { return as_uint(p.w); }
+
+// Vector from particle i to particle j (x_j - x_i) given both keys and offsets. Cell differences
+// are small integers (neighbours are at most one cell apart, or wrap on a periodic axis), so the
+// result is exact to float resolution of the offsets, wherever the particles are in the domain.
+inline float3 relative_position(const GridParams g, const uint key_i, const float4 pi, const uint key_j,
+                                const float4 pj) {
+    int ds = (int)key_s(g, key_j) - (int)key_s(g, key_i);
+    int da = (int)key_a(g, key_j) - (int)key_a(g, key_i);
+    const int db = (int)key_b(g, key_j) - (int)key_b(g, key_i);
+    if (g.periodic_a) {  // minimum image across the wrap
+        if (da > 1) da -= (int)g.n_a;
+        if (da < -1) da += (int)g.n_a;
+    }
+    float3 cell_delta;
+    COMP(cell_delta, AXIS_S) = (float)ds * g.cell_s;
+    COMP(cell_delta, AXIS_A) = (float)da * g.cell_a;
+    COMP(cell_delta, AXIS_B) = (float)db * g.cell_b;
+    return cell_delta + (pj.xyz - pi.xyz);
+}
+
+#endif

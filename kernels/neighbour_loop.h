@@ -1,0 +1,105 @@
+// The neighbour iteration every interaction kernel uses, written once. An interaction file defines
+// what it needs from each neighbour and what it does with a pair, then includes this header, which
+// defines the kernel INTERACTION_NAME in one of two schemes (selected with -DCLSPH_COARSE):
+//   fine   (default): a work-item per particle walks its cell's 9 neighbour rows in global memory;
+//   coarse          : a work-group per cell stages each neighbour row in local memory in tiles of
+//                     WG particles, and each work-item computes one particle of the cell.
+//
+// The interaction file defines, before including:
+//   INTERACTION_NAME         kernel name
+//   INTERACTION_ARGS         extra kernel parameters, starting with a comma
+//   NEIGHBOUR_T              struct of what a pair needs from j; must have a float4 member `pos`
+//   LOAD_NEIGHBOUR(nb, j)    statement filling NEIGHBOUR_T nb from the kernel's arrays
+//   STATE_T                  the per-particle accumulator
+//   STATE_INIT(st, i, self)  statement (self is particle i's NEIGHBOUR_T)
+//   PAIR(st, self, nb, i, j, rij, r2)   statement, for every j (i itself included) with r2 < support2;
+//                            rij = x_j - x_i
+//   STATE_STORE(st, i)       statement writing the result for particle i
+// Particles [first, last) are computed; neighbours come from all of [0, n_active) (ghosts included).
+#include "grid.h"
+
+#ifndef CLSPH_COARSE
+
+__kernel void INTERACTION_NAME(const uint first, const uint last, const GridParams g, const float support2,
+                               __global const float4* pos, __global const uint* cell_of,
+                               __global const uint2* ranges INTERACTION_ARGS) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last) return;
+    NEIGHBOUR_T self;
+    LOAD_NEIGHBOUR(self, i);
+    const uint key_i = pos_key(self.pos);
+    STATE_T st;
+    STATE_INIT(st, i, self);
+    const uint c = cell_of[i];
+    for (uint r = 0; r < 9u; ++r) {
+        const uint2 range = ranges[c * 9u + r];
+        for (uint j = range.x; j < range.y; ++j) {
+            NEIGHBOUR_T nb;
+            LOAD_NEIGHBOUR(nb, j);
+            const float3 rij = relative_position(g, key_i, self.pos, pos_key(nb.pos), nb.pos);
+            const float r2 = dot(rij, rij);
+            if (r2 < support2) {
+                PAIR(st, self, nb, i, j, rij, r2);
+            }
+        }
+    }
+    STATE_STORE(st, i);
+}
+
+#else  // coarse-grained: one work-group per non-empty cell
+
+#ifndef WG
+#define WG 64
+#endif
+
+__kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void INTERACTION_NAME(
+    const uint first, const uint last, const GridParams g, const float support2, __global const float4* pos,
+    __global const uint* cell_start, __global const uint2* ranges INTERACTION_ARGS) {
+    __local NEIGHBOUR_T tile[WG];
+    const uint c = get_group_id(0);
+    const uint lid = get_local_id(0);
+    // The cell's particles, clipped to the computed range (ghost cells are not computed).
+    const uint cell_begin = max(cell_start[c], first), cell_end = min(cell_start[c + 1u], last);
+    if (cell_begin >= cell_end) return;  // whole group leaves together: no barrier is skipped
+    for (uint base = cell_begin; base < cell_end; base += WG) {
+        const uint i = base + lid;
+        const bool active = i < cell_end;
+        NEIGHBOUR_T self;
+        STATE_T st;
+        uint key_i = 0;
+        if (active) {
+            LOAD_NEIGHBOUR(self, i);
+            key_i = pos_key(self.pos);
+            STATE_INIT(st, i, self);
+        }
+        for (uint r = 0; r < 9u; ++r) {
+            const uint2 range = ranges[c * 9u + r];
+            for (uint tile_begin = range.x; tile_begin < range.y; tile_begin += WG) {
+                const uint count = min((uint)WG, range.y - tile_begin);
+                barrier(CLK_LOCAL_MEM_FENCE);
+                if (lid < count) {
+                    NEIGHBOUR_T nb;
+                    LOAD_NEIGHBOUR(nb, tile_begin + lid);
+                    tile[lid] = nb;
+                }
+                barrier(CLK_LOCAL_MEM_FENCE);
+                if (active) {
+                    for (uint t = 0; t < count; ++t) {
+                        const NEIGHBOUR_T nb = tile[t];
+                        const uint j = tile_begin + t;
+                        const float3 rij = relative_position(g, key_i, self.pos, pos_key(nb.pos), nb.pos);
+                        const float r2 = dot(rij, rij);
+                        if (r2 < support2) {
+                            PAIR(st, self, nb, i, j, rij, r2);
+                        }
+                    }
+                }
+            }
+        }
+        if (active) {
+            STATE_STORE(st, i);
+        }
+    }
+}
+
+#endif
