@@ -27,6 +27,20 @@ typedef struct {
     clsph_uint invalid_key;              // all ones in key_bits: outside the domain
 } GridParams;
 
+// Physics constants of a run (see host/src/device/physics.cpp for how each is derived).
+typedef struct {
+    clsph_float h, inv_h, support2;      // smoothing length, 1/h, (2h)^2
+    clsph_float kernel_norm;             // alpha_D of the 3-D kernel
+    clsph_float mass;                    // particle mass rho0 dp^3 (fluid and boundary)
+    clsph_float rho0, inv_rho0, eos_b;   // Tait: p = B ((rho/rho0)^7 - 1)
+    clsph_float c0;                      // speed of sound
+    clsph_float visc_alpha, eta2;        // Monaghan viscosity alpha, 0.01 h^2
+    clsph_float diffusion;               // delta h c0 (0: off)
+    clsph_float hydro;                   // rho0^2 / (gamma B), for the Fourtakas hydrostatic term
+    clsph_float gx, gy, gz;              // gravity
+    clsph_float rho_min, rho_max;        // allowed density band (absolute)
+} SphParams;
+
 // Particle type bits, in the top bits of the 32-bit id.
 #define CLSPH_TYPE_SHIFT 30u
 #define CLSPH_TYPE_FLUID 0u

@@ -1,5 +1,6 @@
 // The cell pipeline and the neighbour loop against brute force, on every device.
 #include "device/cell_pipeline.hpp"
+#include "clsph/error.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -237,7 +238,7 @@ TEST_CASE("grid keys, cells and precision on the host") {
     CHECK_THROWS_AS(Grid(Box{{0, 0, 0}, {3, 0.2, 1}}, 0.1, -1, {false, true, false}), SceneError);
     Grid p(Box{{0, 0, 0}, {3, 1, 2}}, 0.3, -1, {false, true, false});
     CHECK(p.axis(1) == 1);  // the periodic axis takes the middle key position
-    CHECK(p.params().cell_a * p.params().n_a == doctest::Approx(1.0));
+    CHECK(static_cast<double>(p.params().cell_a) * p.params().n_a == doctest::Approx(1.0));
 }
 
 TEST_CASE("neighbours of random particles with empty cells match brute force") {

@@ -1,0 +1,118 @@
+// What to simulate: physics parameters, the domain, fluid blocks, boundaries, probes and run
+// control. Built in code or read from a JSON file (Scene::from_file). Units: SI (m, s, kg).
+#pragma once
+#include "clsph/particles.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+using Vec3 = std::array<double, 3>;
+
+enum class KernelType { wendland_c2, cubic_spline };
+enum class DensityMode { continuity, summation };
+enum class Diffusion { none, molteni_colagrossi, fourtakas };
+
+struct PhysicsParams {
+    double dp = 0.01;                 // particle spacing (m)
+    double hdp = 2.0;                 // smoothing length h = hdp * dp
+    KernelType kernel = KernelType::wendland_c2;
+    DensityMode density = DensityMode::continuity;
+    Diffusion diffusion = Diffusion::fourtakas;
+    double delta = 0.1;               // density diffusion coefficient
+    double rho0 = 1000.0;             // reference density (kg/m^3)
+    double gamma = 7.0;               // Tait exponent (the kernels assume 7)
+    double coefsound = 20.0;          // c0 = coefsound * sqrt(g * H), H = initial fluid height
+    double c0 = 0.0;                  // speed of sound (m/s); 0: from coefsound
+    double alpha = 0.02;              // Monaghan artificial viscosity, fluid-fluid
+    Vec3 gravity{0.0, 0.0, -9.81};    // m/s^2
+    double cfl = 0.2;                 // Courant number of the adaptive time step
+    double density_min = 0.7;         // a density outside [min, max] * rho0 stops the run
+    double density_max = 1.3;
+
+    double h() const { return hdp * dp; }
+    double support() const { return 2.0 * h(); }
+};
+
+struct Domain {
+    Vec3 min{0, 0, 0}, max{1, 1, 1};
+    std::array<bool, 3> periodic{false, false, false};
+    int split_axis = -1;  // -1: the longest axis
+};
+
+// A box of fluid on the dp lattice, in hydrostatic equilibrium below `surface` (default: its top).
+struct FluidBlock {
+    Vec3 min{0, 0, 0}, max{0, 0, 0};
+    Vec3 velocity{0, 0, 0};
+    std::optional<double> surface;
+};
+
+// Faces of a box: bit k*2 is the min face of axis k, bit k*2+1 the max face (x-, x+, y-, y+, z-, z+).
+enum BoxFaces : unsigned { x_min = 1, x_max = 2, y_min = 4, y_max = 8, z_min = 16, z_max = 32, all_faces = 63 };
+
+// The walls of a container whose inner faces are `min`/`max`; `layers` layers of boundary
+// particles at offsets 0, dp, 2dp ... outward.
+struct BoxWalls {
+    Vec3 min{0, 0, 0}, max{1, 1, 1};
+    unsigned faces = all_faces;
+    int layers = 3;
+};
+
+// A solid box of boundary particles: layers inward from its faces (0 layers: filled).
+struct SolidBox {
+    Vec3 min{0, 0, 0}, max{0, 0, 0};
+    int layers = 3;
+};
+
+// A closed triangle mesh (OBJ): boundary layers inward from its surface, or filled with fluid.
+struct MeshObject {
+    std::string path;
+    double scale = 1.0;
+    Vec3 translate{0, 0, 0};
+    bool fluid = false;  // true: the inside is fluid; false: `layers` of boundary particles
+    int layers = 3;
+};
+
+struct Probe {
+    enum class Kind { pressure, height } kind = Kind::pressure;
+    std::string name;
+    Vec3 point{0, 0, 0};  // for height: x, y (z ignored)
+};
+
+struct RunControl {
+    double end_time = 1.0;       // simulated seconds
+    double output_every = 0.01;  // simulated seconds between output frames
+    int probe_every = 10;        // steps between probe samples
+    double fixed_dt = 0.0;       // > 0: use this time step instead of the adaptive CFL step
+};
+
+struct Scene {
+    std::string name = "scene";
+    PhysicsParams physics;
+    Domain domain;
+    std::vector<FluidBlock> fluids;
+    std::vector<BoxWalls> walls;
+    std::vector<SolidBox> solids;
+    std::vector<MeshObject> meshes;
+    std::vector<Probe> probes;
+    RunControl run;
+
+    // Reads a JSON scene (schema: docs/scenes.md). Errors name the file and the key path.
+    static Scene from_file(const std::string& path);
+    static Scene from_json_text(const std::string& text, const std::string& source_name = "scene");
+    std::string to_json() const;  // the resolved scene, every default filled in
+
+    // Checks that need no device (dp > 0, fluid inside the domain, ...); throws SceneError.
+    void validate() const;
+    // The particles of the scene on the dp lattice: boundaries first, then fluid kept at least dp
+    // from every boundary particle; fluid in hydrostatic equilibrium. Ids are 0..n-1.
+    Particles build_particles() const;
+    // The speed of sound the run uses (c0, or coefsound * sqrt(g H)).
+    double sound_speed() const;
+};
+
+}  // namespace clsph

@@ -1,0 +1,87 @@
+// Running a scene on OpenCL devices: the facade a host program (and the clsph tool) uses.
+#pragma once
+#include "clsph/particles.hpp"
+#include "clsph/scene.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+struct Options {
+    std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
+    bool profile = false;      // per-kernel times (profile())
+    bool coarse = false;       // coarse-grained (work-group per cell) interaction kernel
+    double capacity_headroom = 0.25;  // spare particle capacity per device
+};
+
+struct StepInfo {
+    std::uint64_t step = 0;
+    double time = 0.0;         // simulated time after the step (s)
+    double dt = 0.0;           // the step just taken (s)
+    std::size_t particles = 0;
+    std::size_t fluid = 0;
+    std::size_t removed = 0;   // particles removed so far (left the domain)
+    double kinetic_energy = 0.0;  // J, fluid particles
+    double max_speed = 0.0;    // m/s
+    double wall_seconds = 0.0; // since the run began
+};
+
+struct ProbeSample {
+    std::string name;
+    double time = 0.0;
+    double value = 0.0;  // Pa for pressure probes, m for height probes (NaN: no fluid there)
+};
+
+struct KernelTime {
+    std::string name;
+    std::size_t calls = 0;
+    double seconds = 0.0;
+};
+
+struct MemoryReport {
+    std::string device;
+    std::size_t particles = 0;
+    std::size_t peak_bytes = 0;      // the engine's own device allocations at their peak
+    std::size_t capacity_particles = 0;
+    double bytes_per_particle() const { return particles ? double(peak_bytes) / double(particles) : 0.0; }
+};
+
+class Simulation {
+public:
+    Simulation(const Scene& scene, const Options& options = {});
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
+
+    // One time step. Throws SimulationError (naming step, time, particle id) when a value goes
+    // non-finite or a density leaves the configured band; last_good() then holds the last state
+    // that passed the checks (taken at the last call of particles() or every checkpoint_every steps).
+    const StepInfo& step();
+    // Steps until simulated time t; the callback sees every step (return value ignored).
+    void run_until(double t, const std::function<void(const StepInfo&)>& on_step = {});
+
+    Particles particles();                   // host copy, pressure filled in
+    const Particles& last_good() const;
+    const StepInfo& info() const;
+    double time() const;
+    const Scene& scene() const;
+    std::vector<std::string> device_names() const;
+
+    // Probe values now (computed on the device).
+    std::vector<ProbeSample> sample_probes();
+
+    std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
+    std::vector<MemoryReport> memory() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace clsph

@@ -1,0 +1,183 @@
+#include "device/physics.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace clsph::device {
+
+SphParams make_sph_params(const Scene& scene) {
+    const auto& ph = scene.physics;
+    const double pi = 3.14159265358979323846;
+    const double h = ph.h(), c0 = scene.sound_speed();
+    const double B = c0 * c0 * ph.rho0 / ph.gamma;
+    SphParams sp{};
+    sp.h = static_cast<float>(h);
+    sp.inv_h = static_cast<float>(1.0 / h);
+    sp.support2 = static_cast<float>(4.0 * h * h);
+    sp.kernel_norm = static_cast<float>(ph.kernel == KernelType::wendland_c2 ? 21.0 / (16.0 * pi * h * h * h)
+                                                                             : 1.0 / (pi * h * h * h));
+    sp.mass = static_cast<float>(ph.rho0 * ph.dp * ph.dp * ph.dp);
+    sp.rho0 = static_cast<float>(ph.rho0);
+    sp.inv_rho0 = static_cast<float>(1.0 / ph.rho0);
+    sp.eos_b = static_cast<float>(B);
+    sp.c0 = static_cast<float>(c0);
+    sp.visc_alpha = static_cast<float>(ph.alpha);
+    sp.eta2 = static_cast<float>(0.01 * h * h);
+    sp.diffusion = static_cast<float>(ph.diffusion == Diffusion::none ? 0.0 : ph.delta * h * c0);
+    sp.hydro = static_cast<float>(ph.rho0 * ph.rho0 / (ph.gamma * B));
+    sp.gx = static_cast<float>(ph.gravity[0]);
+    sp.gy = static_cast<float>(ph.gravity[1]);
+    sp.gz = static_cast<float>(ph.gravity[2]);
+    sp.rho_min = static_cast<float>(ph.density_min * ph.rho0);
+    sp.rho_max = static_cast<float>(ph.density_max * ph.rho0);
+    return sp;
+}
+
+Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, bool coarse)
+    : device_(device),
+      grid_(grid),
+      sp_(make_sph_params(scene)),
+      coarse_(coarse),
+      summation_(scene.physics.density == DensityMode::summation),
+      wg_(device.work_group_size(128)),
+      coarse_wg_(device.work_group_size(64)) {
+    std::string opts = grid.kernel_options();
+    if (scene.physics.kernel == KernelType::cubic_spline) opts += " -DCLSPH_KERNEL_CUBIC";
+    const int diffusion = scene.physics.diffusion == Diffusion::none                 ? 0
+                          : scene.physics.diffusion == Diffusion::molteni_colagrossi ? 1
+                                                                                     : 2;
+    std::string interaction = opts + " -DCLSPH_DIFFUSION=" + std::to_string(diffusion);
+    if (summation_) interaction += " -DCLSPH_SUMMATION";
+    if (coarse_) interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_);
+    forces_k_ = device.kernel("forces.cl", "forces", interaction);
+    if (summation_) density_k_ = device.kernel("density.cl", "summation_density", interaction);
+    const std::string integ = opts + " -DWG=" + std::to_string(wg_);
+    commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
+    kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
+    kick_k_ = device.kernel("integrate.cl", "kick", integ);
+    probe_k_ = device.kernel("probes.cl", "probe_points", opts);
+    kick_groups_ = std::max<std::size_t>(1, std::min<std::size_t>(256, device.info().compute_units * 4));
+    partials_ = device.alloc(kick_groups_ * 4 * sizeof(float), "kick reductions");
+    bad_ = device.alloc(sizeof(cl_uint), "failure flag");
+}
+
+namespace {
+// Arguments common to every interaction kernel of neighbour_loop.h.
+void set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& cells, const GridParams& g,
+                   const SphParams& sp, bool coarse) {
+    k.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
+    k.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+    k.setArg(2, g);
+    k.setArg(3, sp.support2);
+    k.setArg(4, ps.pos.get());
+    k.setArg(5, coarse ? cells.cell_start().get() : ps.vals.get());
+    k.setArg(6, cells.ranges().get());
+    k.setArg(7, sp);
+}
+}  // namespace
+
+void Physics::forces(ParticleStore& ps, const CellPipeline& cells) {
+    const std::size_t n = ps.ranges.owned;
+    if (n == 0) return;
+    const auto g = grid_.params();
+    auto launch = [&](const char* name, cl::Kernel& k) {
+        if (coarse_)
+            device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
+        else
+            device_.launch(name, k, n, wg_);
+    };
+    if (summation_) {
+        set_loop_args(density_k_, ps, cells, g, sp_, coarse_);
+        density_k_.setArg(8, ps.velrho.get());
+        density_k_.setArg(9, ps.id.get());
+        density_k_.setArg(10, ps.scratch.get());  // free between reorders: new densities
+        launch("sph.density", density_k_);
+        commit_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
+        commit_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+        commit_k_.setArg(2, ps.scratch.get());
+        commit_k_.setArg(3, ps.velrho.get());
+        device_.launch("sph.commit_density", commit_k_, n, wg_);
+    }
+    set_loop_args(forces_k_, ps, cells, g, sp_, coarse_);
+    forces_k_.setArg(8, ps.velrho.get());
+    forces_k_.setArg(9, ps.id.get());
+    forces_k_.setArg(10, ps.accel.get());
+    launch("sph.forces", forces_k_);
+}
+
+void Physics::kick_drift(ParticleStore& ps, double dt) {
+    const std::size_t n = ps.ranges.owned;
+    kick_drift_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
+    kick_drift_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+    kick_drift_k_.setArg(2, static_cast<float>(dt));
+    kick_drift_k_.setArg(3, sp_.rho0);
+    kick_drift_k_.setArg(4, ps.pos.get());
+    kick_drift_k_.setArg(5, ps.velrho.get());
+    kick_drift_k_.setArg(6, ps.accel.get());
+    kick_drift_k_.setArg(7, ps.id.get());
+    device_.launch("sph.kick_drift", kick_drift_k_, n, wg_);
+}
+
+KickResult Physics::kick(ParticleStore& ps, double dt) {
+    const cl_uint none = 0xffffffffu;
+    device_.fill(bad_, none, 1);
+    kick_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
+    kick_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+    kick_k_.setArg(2, static_cast<float>(dt));
+    kick_k_.setArg(3, sp_);
+    kick_k_.setArg(4, ps.velrho.get());
+    kick_k_.setArg(5, ps.accel.get());
+    kick_k_.setArg(6, ps.id.get());
+    kick_k_.setArg(7, partials_.get());
+    kick_k_.setArg(8, bad_.get());
+    device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
+    std::vector<float> part(kick_groups_ * 4);
+    cl_uint bad = none;
+    device_.read(partials_, part.data(), part.size());
+    device_.read(bad_, &bad, 1);
+    KickResult r;
+    for (std::size_t g = 0; g < kick_groups_; ++g) {
+        r.max_speed2 = std::max(r.max_speed2, static_cast<double>(part[4 * g]));
+        r.max_accel2 = std::max(r.max_accel2, static_cast<double>(part[4 * g + 1]));
+        r.kinetic_energy += part[4 * g + 2];
+        r.fluid += static_cast<std::size_t>(part[4 * g + 3]);
+    }
+    if (bad != none) r.bad_index = bad;
+    return r;
+}
+
+std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPipeline& cells,
+                                                 const std::vector<std::array<double, 3>>& points) {
+    std::vector<std::array<float, 2>> out(points.size());
+    if (points.empty()) return out;
+    std::vector<float> q(4 * points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        std::array<float, 3> off{};
+        const std::uint32_t key = grid_.locate(points[i], off);
+        std::memcpy(&q[4 * i], off.data(), sizeof off);
+        std::memcpy(&q[4 * i + 3], &key, sizeof key);
+    }
+    if (probe_in_.bytes() < q.size() * sizeof(float)) {
+        probe_in_ = device_.alloc(q.size() * sizeof(float), "probe points");
+        probe_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums");
+    }
+    device_.write(probe_in_, q.data(), q.size());
+    probe_k_.setArg(0, static_cast<cl_uint>(points.size()));
+    probe_k_.setArg(1, static_cast<cl_uint>(cells.cells()));
+    probe_k_.setArg(2, grid_.params());
+    probe_k_.setArg(3, sp_);
+    probe_k_.setArg(4, probe_in_.get());
+    probe_k_.setArg(5, cells.cell_key().get());
+    probe_k_.setArg(6, cells.cell_start().get());
+    probe_k_.setArg(7, ps.pos.get());
+    probe_k_.setArg(8, ps.velrho.get());
+    probe_k_.setArg(9, ps.id.get());
+    probe_k_.setArg(10, probe_out_.get());
+    device_.launch("probe.points", probe_k_, points.size(), wg_);
+    std::vector<float> raw(2 * points.size());
+    device_.read(probe_out_, raw.data(), raw.size());
+    for (std::size_t i = 0; i < points.size(); ++i) out[i] = {raw[2 * i], raw[2 * i + 1]};
+    return out;
+}
+
+}  // namespace clsph::device

@@ -1,0 +1,47 @@
+// The WCSPH physics of one device: the constants (SphParams), the force pass (and the summation
+// density pass), Leap-frog kicks with the reductions that choose the next time step, and probes.
+#pragma once
+#include "cl/device.hpp"
+#include "clsph/scene.hpp"
+#include "device/cell_pipeline.hpp"
+#include "device/grid.hpp"
+#include "device/particle_store.hpp"
+
+#include <array>
+#include <vector>
+
+namespace clsph::device {
+
+SphParams make_sph_params(const Scene& scene);
+
+struct KickResult {
+    double max_speed2 = 0, max_accel2 = 0, kinetic_energy = 0;
+    std::size_t fluid = 0;
+    std::int64_t bad_index = -1;  // a particle that failed the checks, or -1
+};
+
+class Physics {
+public:
+    Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, bool coarse);
+    const SphParams& params() const { return sp_; }
+
+    // Accelerations and drho/dt of the owned particles (summation mode: densities first).
+    void forces(ParticleStore& ps, const CellPipeline& cells);
+    void kick_drift(ParticleStore& ps, double dt);
+    KickResult kick(ParticleStore& ps, double dt);  // blocking: reads the reductions back
+
+    // Per probe point: (sum V W, sum p V W) over fluid neighbours. Blocking.
+    std::vector<std::array<float, 2>> probe(ParticleStore& ps, const CellPipeline& cells,
+                                            const std::vector<std::array<double, 3>>& points);
+
+private:
+    cl_rt::Device& device_;
+    const Grid& grid_;
+    SphParams sp_{};
+    bool coarse_, summation_;
+    std::size_t wg_, coarse_wg_, kick_groups_;
+    cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
+    cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
+};
+
+}  // namespace clsph::device

@@ -1,0 +1,96 @@
+// WCSPH interactions on the shared neighbour loop (neighbour_loop.h), one pass:
+//   continuity   drho_i/dt = sum_j m v_ij . grad_i W_ij                          (all particles)
+//   diffusion    + delta h c0 sum_j psi_ij F'_ij m / rho_j,  F'_ij = -F >= 0
+//                Molteni & Colagrossi (2009): psi_ij = 2 (rho_j - rho_i), every pair;
+//                Fourtakas et al. (2019):     psi_ij = 2 (rho_j - rho_i - rho^H_ji), fluid-fluid
+//                pairs only, rho^H_ji = rho0^2 g.(x_j - x_i) / (gamma B) (the hydrostatic density
+//                difference, linearised: |rho0 g dz / B| < 1e-3 within a kernel support)
+//   pressure     a_i = -sum_j m (p_i + p_j) / (rho_i rho_j) grad_i W_ij              (fluid i)
+//   viscosity    Monaghan (1992): Pi_ij = -alpha c0 mu_ij / rho_mean, mu = h v_ij.x_ij / (r^2 + eta^2),
+//                when v_ij.x_ij < 0, fluid-fluid pairs only
+//   gravity      added to fluid accelerations
+// Dynamic boundary particles (DBC, Crespo et al. 2007) get only drho/dt: they do not move.
+// -DCLSPH_SUMMATION: fluid densities come from the summation pass (density.cl), so fluid drho = 0.
+// -DCLSPH_DIFFUSION=0|1|2: none, Molteni-Colagrossi, Fourtakas.
+#include "sph_kernel.h"
+
+#ifndef CLSPH_DIFFUSION
+#define CLSPH_DIFFUSION 2
+#endif
+
+typedef struct {
+    float4 pos;
+    float4 velrho;
+    uint fluid;
+} ForceNeighbour;
+
+typedef struct {
+    float3 acc;
+    float drho;
+    float p, rho;
+    uint fluid;
+} ForceState;
+
+#define INTERACTION_NAME forces
+#define INTERACTION_ARGS \
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel
+#define NEIGHBOUR_T ForceNeighbour
+#define LOAD_NEIGHBOUR(nb, j)                                                   \
+    do {                                                                        \
+        (nb).pos = pos[j];                                                      \
+        (nb).velrho = velrho[j];                                                \
+        (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
+    } while (0)
+#define STATE_T ForceState
+#define STATE_INIT(st, i, self)                      \
+    do {                                             \
+        (st).acc = (float3)(0.0f);                   \
+        (st).drho = 0.0f;                            \
+        (st).rho = (self).velrho.w;                  \
+        (st).p = pressure_of(&sp, (st).rho);         \
+        (st).fluid = (self).fluid;                   \
+    } while (0)
+
+inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb,
+                       const float3 rij, const float r2) {
+    if (r2 <= 1e-18f) return;  // the particle itself
+    const float r = sqrt(r2);
+    const float f = kernel_f(sp, r);
+    const float3 d = -rij;  // x_i - x_j
+    const float3 vij = self->velrho.xyz - nb->velrho.xyz;
+    const float vd = dot(vij, d);
+    const float rho_j = nb->velrho.w;
+    const float m = sp->mass;
+#ifndef CLSPH_SUMMATION
+    st->drho += m * vd * f;
+#else
+    if (!st->fluid) st->drho += m * vd * f;
+#endif
+#if CLSPH_DIFFUSION == 1
+    st->drho += sp->diffusion * 2.0f * (rho_j - st->rho) * (-f) * m / rho_j;
+#elif CLSPH_DIFFUSION == 2
+    if (st->fluid && nb->fluid) {
+        const float rho_h = sp->hydro * (sp->gx * rij.x + sp->gy * rij.y + sp->gz * rij.z);
+        st->drho += sp->diffusion * 2.0f * (rho_j - st->rho - rho_h) * (-f) * m / rho_j;
+    }
+#endif
+    if (st->fluid) {
+        const float p_j = pressure_of(sp, rho_j);
+        float coef = (st->p + p_j) / (st->rho * rho_j);
+        if (nb->fluid && vd < 0.0f) {
+            const float mu = sp->h * vd / (r2 + sp->eta2);
+            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (st->rho + rho_j));
+        }
+        st->acc += (-m * coef * f) * d;
+    }
+}
+
+#define PAIR(st, self, nb, i, j, rij, r2) force_pair(&(st), &sp, &(self), &(nb), (rij), (r2))
+#define STATE_STORE(st, i)                                                                      \
+    do {                                                                                        \
+        float4 out = (float4)(0.0f, 0.0f, 0.0f, (st).drho);                                     \
+        if ((st).fluid) out.xyz = (st).acc + (float3)(sp.gx, sp.gy, sp.gz);                     \
+        accel[i] = out;                                                                         \
+    } while (0)
+
+#include "neighbour_loop.h"

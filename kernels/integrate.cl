@@ -1,0 +1,96 @@
+// Leap-frog in kick-drift-kick form (the host keeps time in double):
+//   kick_drift:  v += a dt/2, rho += drho dt/2, x += v dt        (a, drho from the last evaluation)
+//   [cell pass, forces at the new positions with the half-step v and rho]
+//   kick:        v += a dt/2, rho += drho dt/2, then checks and the reductions for the next dt
+// Boundary particles do not move; their density may not fall below rho0 (as DualSPHysics does for
+// DBC), otherwise walls would suck fluid in.
+#include "shared.h"
+
+inline bool is_fluid(const uint id) { return (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; }
+
+__kernel void kick_drift(const uint first, const uint last, const float dt, const float rho0,
+                         __global float4* pos, __global float4* velrho, __global const float4* accel,
+                         __global const uint* ids) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last) return;
+    float4 vr = velrho[i];
+    const float4 a = accel[i];
+    const float half = 0.5f * dt;
+    if (is_fluid(ids[i])) {
+        vr.xyz += a.xyz * half;
+        vr.w += a.w * half;
+        float4 p = pos[i];
+        p.xyz += vr.xyz * dt;
+        pos[i] = p;
+    } else {
+        vr.w = fmax(vr.w + a.w * half, rho0);
+    }
+    velrho[i] = vr;
+}
+
+// Second kick, then per work-group: max |v|^2 and max |a|^2 of fluid, kinetic energy, fluid count
+// into partials[group]; the lowest index of a particle with a non-finite value or a density outside
+// [rho_min, rho_max] into *bad (the host fills it with 0xffffffff first).
+__kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void kick(
+    const uint first, const uint last, const float dt, const SphParams sp, __global float4* velrho,
+    __global const float4* accel, __global const uint* ids, __global float4* partials, __global uint* bad) {
+    __local float4 red[WG];
+    const uint lid = get_local_id(0);
+    float4 acc = (float4)(0.0f);
+    for (uint i = first + (uint)get_global_id(0); i < last; i += (uint)get_global_size(0)) {
+        float4 vr = velrho[i];
+        const float4 a = accel[i];
+        const float half = 0.5f * dt;
+        const bool fluid = is_fluid(ids[i]);
+        if (fluid) {
+            vr.xyz += a.xyz * half;
+            vr.w += a.w * half;
+        } else {
+            vr.w = fmax(vr.w + a.w * half, sp.rho0);
+        }
+        velrho[i] = vr;
+        const bool finite = isfinite(vr.x) && isfinite(vr.y) && isfinite(vr.z) && isfinite(vr.w) &&
+                            isfinite(a.x) && isfinite(a.y) && isfinite(a.z) && isfinite(a.w);
+        if (!finite || vr.w < sp.rho_min || vr.w > sp.rho_max) atomic_min(bad, i);
+        if (fluid) {
+            const float v2 = dot(vr.xyz, vr.xyz);
+            acc.x = fmax(acc.x, v2);
+            acc.y = fmax(acc.y, dot(a.xyz, a.xyz));
+            acc.z += 0.5f * sp.mass * v2;
+            acc.w += 1.0f;
+        }
+    }
+    red[lid] = acc;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint s = WG / 2; s > 0; s >>= 1) {
+        if (lid < s) {
+            const float4 o = red[lid + s];
+            float4 m = red[lid];
+            m.x = fmax(m.x, o.x);
+            m.y = fmax(m.y, o.y);
+            m.z += o.z;
+            m.w += o.w;
+            red[lid] = m;
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (lid == 0) partials[get_group_id(0)] = red[0];
+}
+
+// Summation density: the new fluid densities computed by density.cl go into velrho.w.
+__kernel void commit_density(const uint first, const uint last, __global const float* rho, __global float4* velrho) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last) return;
+    velrho[i].w = rho[i];
+}
+
+// Kernel values for the invariant tests: W and grad W at given offsets from a particle.
+#include "sph_kernel.h"
+__kernel void kernel_values(const uint n, const SphParams sp, __global const float4* offsets, __global float4* out) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float3 d = offsets[i].xyz;  // x_i - x_j
+    const float r = length(d);
+    const float f = kernel_f(&sp, r);
+    out[i] = (float4)(f * d, kernel_w(&sp, r));
+}

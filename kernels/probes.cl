@@ -1,0 +1,53 @@
+// Probes: SPH interpolation at arbitrary points from fluid neighbours. Per point (given like a
+// particle: offset from its cell centre + key bits in w) it sums over fluid particles j within the
+// support: (sum V_j W, sum p_j V_j W), V_j = m / rho_j. The host turns these into a Shepard-
+// normalised pressure, or a fluid fraction whose 1/2 crossing along z is the water height.
+#include "grid.h"
+#include "sph_kernel.h"
+
+inline uint lower_bound_cell(__global const uint* cell_key, const uint k, const uint want) {
+    uint lo = 0, hi = k;
+    while (lo < hi) {
+        const uint mid = (lo + hi) >> 1;
+        if (cell_key[mid] < want) lo = mid + 1u; else hi = mid;
+    }
+    return lo;
+}
+
+__kernel void probe_points(const uint points, const uint cells, const GridParams g, const SphParams sp,
+                           __global const float4* query, __global const uint* cell_key,
+                           __global const uint* cell_start, __global const float4* pos,
+                           __global const float4* velrho, __global const uint* ids, __global float2* out) {
+    const uint q = get_global_id(0);
+    if (q >= points) return;
+    const float4 x = query[q];
+    const uint key = pos_key(x);
+    float2 sums = (float2)(0.0f);
+    if (key != g.invalid_key) {
+        const int s = (int)key_s(g, key), a = (int)key_a(g, key);
+        const uint b = key_b(g, key);
+        for (int ds = -1; ds <= 1; ++ds)
+            for (int da = -1; da <= 1; ++da) {
+                int s2 = s + ds, a2 = a + da;
+                if (g.periodic_a) {
+                    if (a2 < 0) a2 += (int)g.n_a;
+                    if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+                }
+                if (s2 < 0 || s2 >= (int)g.n_s || a2 < 0 || a2 >= (int)g.n_a) continue;
+                const uint mid = make_key(g, (uint)s2, (uint)a2, b);
+                const uint begin = cell_start[lower_bound_cell(cell_key, cells, mid - 1u)];
+                const uint end = cell_start[lower_bound_cell(cell_key, cells, mid + 2u)];
+                for (uint j = begin; j < end; ++j) {
+                    if ((ids[j] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) continue;
+                    const float4 pj = pos[j];
+                    const float3 d = relative_position(g, key, x, pos_key(pj), pj);
+                    const float r2 = dot(d, d);
+                    if (r2 >= sp.support2) continue;
+                    const float rho = velrho[j].w;
+                    const float vw = sp.mass / rho * kernel_w(&sp, sqrt(r2));
+                    sums += (float2)(vw, vw * pressure_of(&sp, rho));
+                }
+            }
+    }
+    out[q] = sums;
+}
