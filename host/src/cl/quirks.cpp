@@ -25,6 +25,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     // reliably, so all rusticl devices are host-timed (the cost is a queue.finish per timed launch).
     q.fake_event_timestamps = rusticl;
     q.blocking_wait_spins = nvidia;
+    q.kernel_work_group_size_understated = rusticl;
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).
     const std::size_t reported = static_cast<std::size_t>(info.local_memory);

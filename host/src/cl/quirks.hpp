@@ -17,6 +17,15 @@ struct Quirks {
     std::size_t usable_local_memory = 16 * 1024;
     // OpenCL 1.2 has no non-uniform work-groups anywhere: global sizes are always padded to a
     // multiple of the work-group size and kernels guard with `if (i >= n) return;`.
+
+    // --- found while writing the primitives (sort, scan, compaction) ---
+    // Mesa rusticl 22.3 reports CL_KERNEL_WORK_GROUP_SIZE = 32 for every kernel, whatever its
+    // registers or local memory, yet runs work-groups up to the device's 1024 correctly (scan and
+    // radix-sort kernels full of barriers, checked at 64, 256 and 1024 work-items against a CPU
+    // result). Where set, the per-kernel query is ignored and the device limit used instead.
+    // (rusticl 22.3 also reports CL_KERNEL_LOCAL_MEM_SIZE as twice the kernel's local arrays and
+    // does not enforce the limit; we budget local memory from the device's reported size.)
+    bool kernel_work_group_size_understated = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);

@@ -8,20 +8,33 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace clsph::device {
 
 // Exclusive prefix sum of uint32 (wrapping on overflow, like std::exclusive_scan on uint32_t).
 class Scan {
 public:
+    // Launch shape; zeros pick per-device defaults. Benchmarks sweep these; the engine keeps the
+    // defaults.
+    struct Config {
+        std::size_t work_group = 0;  // work-items per group, a power of two (0: the device's, <= 256)
+        std::size_t items = 0;       // elements per work-item, a multiple of 4 (0: 16)
+        std::string name = "scan";   // launches are named "<name>.reduce" and "<name>.tiles"
+    };
     explicit Scan(cl_rt::Device& device);
+    Scan(cl_rt::Device& device, const Config& config);
     // out[i] = in[0] + ... + in[i-1] for i in [0, n], so out[n] is the total: `out` must hold n + 1
     // elements. `in` and `out` may be the same buffer only if it holds n + 1 elements.
     // Asynchronous: enqueued on the device's queue.
     void exclusive(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n);
     // As exclusive(), then reads back and returns the total (a blocking read of one uint).
     std::uint32_t exclusive_total(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n);
+    // As exclusive(), counting each input element as 1 if it is non-zero and 0 otherwise (the scan
+    // of stream compaction, without a pass to turn flags into 0/1).
+    void exclusive_flags(const cl_rt::Buffer& flags, cl_rt::Buffer& out, std::size_t n);
     std::size_t scratch_bytes() const;
+    std::size_t tile() const;  // elements per work-group, as resolved for this device
 
 private:
     struct Impl;
@@ -31,12 +44,23 @@ private:
 // Stable LSD radix sort of (uint32 key, uint32 value) pairs on the low `key_bits` bits of the key
 // (1..32; higher bits are ignored for ordering but kept). The sorted pairs end up in `keys` and
 // `values`: the sort ping-pongs between them and its own scratch buffers and may swap the Buffer
-// objects (so kernel arguments bound to them must be set again after a sort).
+// objects (so kernel arguments bound to them must be set again after a sort). A swapped-in Buffer
+// is never smaller than the one it replaces. One pass per digit: ceil(key_bits / digit_bits).
 class RadixSort {
 public:
+    struct Config {
+        std::size_t work_group = 0;  // work-items per group, a power of two >= 16 (0: the device's, <= 256)
+        std::size_t items = 0;       // pairs per work-item, a multiple of 4 (0: the most local memory allows, <= 16)
+        unsigned digit_bits = 8;     // bits sorted per pass, 1..8
+        std::string name = "sort";   // launches: "<name>.histogram", "<name>.scan.*", "<name>.scatter"
+    };
     explicit RadixSort(cl_rt::Device& device);
+    RadixSort(cl_rt::Device& device, const Config& config);
     void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits);
     std::size_t scratch_bytes() const;
+    std::size_t tile() const;                      // pairs per work-group, as resolved for this device
+    unsigned passes(unsigned key_bits) const;      // passes a sort of key_bits bits makes
+    const Config& config() const;                  // as resolved for this device
 
 private:
     struct Impl;
@@ -47,6 +71,7 @@ private:
 class Compact {
 public:
     explicit Compact(cl_rt::Device& device);
+    // flags and values may be the same buffer (keep the non-zero elements).
     // out[j] = values[i] for the j-th i with flags[i] != 0; `out` must hold n elements.
     std::size_t compact(const cl_rt::Buffer& flags, const cl_rt::Buffer& values, cl_rt::Buffer& out, std::size_t n);
 

@@ -1,0 +1,115 @@
+// RadixSort: LSD passes of up to digit_bits bits, each histogram -> scan -> scatter over tiles of
+// WG * ITEMS pairs (see kernels/radix_sort.cl), ping-ponging between the caller's buffers and ours.
+#include "device/primitives.hpp"
+
+#include "device/primitives_launch.hpp"
+
+#include "clsph/error.hpp"
+
+#include <algorithm>
+
+namespace clsph::device {
+namespace {
+
+// Local memory sort_scatter declares (see radix_sort.cl): the exchange tile (keys and values, one
+// padding word per 32), the per-digit bases and the work-group scan's scratch.
+std::size_t scatter_local_bytes(std::size_t wg, std::size_t items, unsigned digit_bits) {
+    const std::size_t tile = wg * items;
+    const std::size_t padded = tile + tile / 32;
+    return sizeof(cl_uint) * (2 * padded + (std::size_t{1} << digit_bits) + 2 * wg);
+}
+
+}  // namespace
+
+struct RadixSort::Impl {
+    cl_rt::Device& dev;
+    Config config;
+    std::size_t tile = 0;
+    cl::Kernel histogram, scatter;
+    Scan scan;  // of the digit-count table
+    cl_rt::Buffer keys_alt, values_alt, counts;
+
+    Impl(cl_rt::Device& device, Config c)
+        : dev(device), config(std::move(c)), scan(device, Scan::Config{0, 0, config.name + ".scan"}) {
+        if (config.digit_bits < 1 || config.digit_bits > 8)
+            throw Error("radix sort: digit_bits must be 1..8, not " + std::to_string(config.digit_bits));
+        const std::size_t wg0 = config.work_group ? config.work_group : dev.work_group_size(256);
+        if (wg0 < 16) throw Error("radix sort: work-groups of " + std::to_string(wg0) + " are too small (16 or more)");
+        if (config.items == 0) {
+            // Larger tiles write longer runs per digit (better coalesced) and leave a smaller table
+            // to scan; local memory bounds them (32 KiB on rusticl: 8 per work-item at 256).
+            const std::size_t local = dev.quirks().usable_local_memory;
+            config.items = 4;
+            for (std::size_t items : {16, 8})
+                if (scatter_local_bytes(wg0, items, config.digit_bits) <= local) {
+                    config.items = items;
+                    break;
+                }
+        }
+        if (config.items % 4 != 0)
+            throw Error("radix sort: items per work-item must be a multiple of 4, not " + std::to_string(config.items));
+        if (scatter_local_bytes(wg0, config.items, config.digit_bits) > dev.quirks().usable_local_memory)
+            throw Error("radix sort: tiles of " + std::to_string(wg0 * config.items) + " pairs need " +
+                        std::to_string(scatter_local_bytes(wg0, config.items, config.digit_bits)) +
+                        " bytes of local memory, more than the " +
+                        std::to_string(dev.quirks().usable_local_memory) + " usable on " + dev.label());
+        if (wg0 * config.items >= 65536) throw Error("radix sort: tiles must hold fewer than 65536 pairs");
+        config.work_group = resolve_work_group(dev, config.work_group, 256, [&](std::size_t wg) {
+            const std::string options = "-DWG=" + std::to_string(wg) + " -DITEMS=" + std::to_string(config.items) +
+                                        " -DDIGIT_BITS=" + std::to_string(config.digit_bits);
+            histogram = dev.kernel("radix_sort.cl", "sort_histogram", options);
+            scatter = dev.kernel("radix_sort.cl", "sort_scatter", options);
+            return std::vector<cl::Kernel*>{&histogram, &scatter};
+        });
+        tile = config.work_group * config.items;
+    }
+
+    unsigned passes(unsigned key_bits) const { return (key_bits + config.digit_bits - 1) / config.digit_bits; }
+
+    void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
+        if (key_bits < 1 || key_bits > 32)
+            throw Error("radix sort: key_bits must be 1..32, not " + std::to_string(key_bits));
+        require_elements("radix sort keys", keys, n);
+        require_elements("radix sort values", values, n);
+        if (n < 2) return;
+        const cl_uint count = as_uint(n);
+        const std::size_t groups = (n + tile - 1) / tile;
+        const std::size_t wg = config.work_group;
+        // Our buffers trade places with the caller's: size them so that the caller never gets a
+        // smaller buffer than it gave us.
+        ensure_capacity(dev, keys_alt, std::max(keys.bytes(), n * sizeof(cl_uint)), "radix sort keys (ping-pong)");
+        ensure_capacity(dev, values_alt, std::max(values.bytes(), n * sizeof(cl_uint)), "radix sort values (ping-pong)");
+        const std::size_t table = (std::size_t{1} << config.digit_bits) * groups;
+        ensure_capacity(dev, counts, (table + 1) * sizeof(cl_uint), "radix sort digit counts");
+
+        for (unsigned shift = 0; shift < key_bits; shift += config.digit_bits) {
+            const cl_uint bits = std::min(config.digit_bits, key_bits - shift);
+            const std::size_t entries = (std::size_t{1} << bits) * groups;
+            set_args(histogram, keys.get(), count, cl_uint{shift}, bits, as_uint(groups), counts.get());
+            dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
+            scan.exclusive(counts, counts, entries);
+            set_args(scatter, keys.get(), values.get(), keys_alt.get(), values_alt.get(), count, cl_uint{shift}, bits,
+                     as_uint(groups), counts.get());
+            dev.launch(config.name + ".scatter", scatter, groups * wg, wg);
+            keys.swap(keys_alt);
+            values.swap(values_alt);
+        }
+    }
+};
+
+RadixSort::RadixSort(cl_rt::Device& device) : RadixSort(device, Config{}) {}
+RadixSort::RadixSort(cl_rt::Device& device, const Config& config) : impl_(std::make_shared<Impl>(device, config)) {}
+
+void RadixSort::sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
+    impl_->sort(keys, values, n, key_bits);
+}
+
+std::size_t RadixSort::scratch_bytes() const {
+    return impl_->keys_alt.bytes() + impl_->values_alt.bytes() + impl_->counts.bytes() + impl_->scan.scratch_bytes();
+}
+
+std::size_t RadixSort::tile() const { return impl_->tile; }
+unsigned RadixSort::passes(unsigned key_bits) const { return impl_->passes(key_bits); }
+const RadixSort::Config& RadixSort::config() const { return impl_->config; }
+
+}  // namespace clsph::device

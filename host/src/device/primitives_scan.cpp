@@ -1,0 +1,91 @@
+// Scan: reduce-then-scan over tiles of WG * ITEMS elements, recursing on the tile sums (see
+// kernels/scan.cl). Each recursion level keeps its own small buffer of tile sums.
+#include "device/primitives.hpp"
+
+#include "device/primitives_launch.hpp"
+
+#include "clsph/error.hpp"
+
+#include <deque>
+#include <vector>
+
+namespace clsph::device {
+
+struct Scan::Impl {
+    cl_rt::Device& dev;
+    Config config;
+    std::size_t tile = 0;
+    cl::Kernel reduce, tiles;
+    // sums[level]: tile sums of that level, scanned in place. A deque: deeper levels are added
+    // while a shallower one is referenced, and growing a deque keeps references valid.
+    std::deque<cl_rt::Buffer> sums;
+
+    Impl(cl_rt::Device& device, Config c) : dev(device), config(std::move(c)) {
+        if (config.items == 0) config.items = 16;
+        if (config.items % 4 != 0)
+            throw Error("scan: items per work-item must be a multiple of 4, not " + std::to_string(config.items));
+        config.work_group = resolve_work_group(dev, config.work_group, 256, [&](std::size_t wg) {
+            const std::string options = "-DWG=" + std::to_string(wg) + " -DITEMS=" + std::to_string(config.items);
+            reduce = dev.kernel("scan.cl", "scan_reduce", options);
+            tiles = dev.kernel("scan.cl", "scan_tiles", options);
+            return std::vector<cl::Kernel*>{&reduce, &tiles};
+        });
+        tile = config.work_group * config.items;
+    }
+
+    // Scans n elements of `in` into `out` (n + 1 elements); level 0 is the caller's scan, deeper
+    // levels scan tile sums in place.
+    void run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, bool flags, std::size_t level) {
+        if (n == 0) {
+            dev.fill(out, cl_uint{0}, 1);
+            return;
+        }
+        const std::size_t groups = (n + tile - 1) / tile;
+        const std::size_t wg = config.work_group;
+        if (groups > 1) {
+            if (sums.size() <= level) sums.resize(level + 1);
+            ensure_capacity(dev, sums[level], (groups + 1) * sizeof(cl_uint), "scan tile sums");
+            cl_rt::Buffer& s = sums[level];
+            set_args(reduce, in.get(), as_uint(n), cl_uint{flags}, s.get());
+            dev.launch(config.name + ".reduce", reduce, groups * wg, wg);
+            run(s, s, groups, false, level + 1);
+            set_args(tiles, in.get(), out.get(), as_uint(n), cl_uint{flags}, s.get(), cl_uint{1});
+        } else {
+            // One tile: no offsets to add (out stands in for the unused offsets argument).
+            set_args(tiles, in.get(), out.get(), as_uint(n), cl_uint{flags}, out.get(), cl_uint{0});
+        }
+        dev.launch(config.name + ".tiles", tiles, groups * wg, wg);
+    }
+
+    void checked_run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, bool flags) {
+        require_elements("scan input", in, n);
+        require_elements("scan output", out, n + 1);
+        run(in, out, n, flags, 0);
+    }
+};
+
+Scan::Scan(cl_rt::Device& device) : Scan(device, Config{}) {}
+Scan::Scan(cl_rt::Device& device, const Config& config) : impl_(std::make_shared<Impl>(device, config)) {}
+
+void Scan::exclusive(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n) { impl_->checked_run(in, out, n, false); }
+
+void Scan::exclusive_flags(const cl_rt::Buffer& flags, cl_rt::Buffer& out, std::size_t n) {
+    impl_->checked_run(flags, out, n, true);
+}
+
+std::uint32_t Scan::exclusive_total(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n) {
+    exclusive(in, out, n);
+    std::uint32_t total = 0;
+    impl_->dev.read(out, &total, 1, n);
+    return total;
+}
+
+std::size_t Scan::scratch_bytes() const {
+    std::size_t bytes = 0;
+    for (const auto& s : impl_->sums) bytes += s.bytes();
+    return bytes;
+}
+
+std::size_t Scan::tile() const { return impl_->tile; }
+
+}  // namespace clsph::device
