@@ -1,0 +1,17 @@
+// Loading a scene file the way the clsph tool does: the file, then `--set KEY=VALUE` overrides.
+#pragma once
+#include "clsph/scene.hpp"
+
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+// Reads the JSON scene at `path` (schema: docs/scenes.md), applies each override
+// `dotted.key.path=VALUE` in order, then converts and validates the result. VALUE is read as JSON
+// when it parses as JSON (0.01, [1, 2, 3], true, "text"), otherwise as a string (cubic); array
+// elements are addressed as `fluid[0].max` or `fluid.0.max`. Throws SceneError naming the file,
+// the key and, when an override caused it, the override.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace clsph

@@ -1,0 +1,209 @@
+// The scene document -> Scene (schema: docs/scenes.md). Defaults come from the structs in
+// clsph/scene.hpp, so the file format and the C++ API cannot disagree about them.
+#include "scene/json_fields.hpp"
+#include "scene/json_scene.hpp"
+#include "scene/mesh_obj.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace clsph::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+PhysicsParams read_physics(const Json& v) {
+    Fields f(v, "physics",
+             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha",
+              "gravity", "cfl", "density_min", "density_max"});
+    PhysicsParams p;
+    p.dp = read_number(f.require("dp"), "physics.dp");
+    p.hdp = f.number("hdp", p.hdp);
+    p.kernel = f.choice("kernel", p.kernel, {{"wendland", KernelType::wendland_c2}, {"cubic", KernelType::cubic_spline}});
+    p.density = f.choice("density", p.density,
+                         {{"continuity", DensityMode::continuity}, {"summation", DensityMode::summation}});
+    p.diffusion = f.choice("diffusion", p.diffusion,
+                           {{"none", Diffusion::none},
+                            {"molteni", Diffusion::molteni_colagrossi},
+                            {"fourtakas", Diffusion::fourtakas}});
+    p.delta = f.number("delta", p.delta);
+    p.rho0 = f.number("rho0", p.rho0);
+    p.gamma = f.number("gamma", p.gamma);
+    p.coefsound = f.number("coefsound", p.coefsound);
+    p.c0 = f.number("c0", p.c0);
+    if (p.c0 < 0) key_error("physics.c0", "must be >= 0 (0: derived from coefsound)");
+    p.alpha = f.number("alpha", p.alpha);
+    p.gravity = f.vec3("gravity", p.gravity);
+    p.cfl = f.number("cfl", p.cfl);
+    p.density_min = f.number("density_min", p.density_min);
+    p.density_max = f.number("density_max", p.density_max);
+    return p;
+}
+
+Domain read_domain(const Json& v) {
+    Fields f(v, "domain", {"min", "max", "periodic", "split_axis"});
+    Domain d;
+    d.min = read_vec3(f.require("min"), "domain.min");
+    d.max = read_vec3(f.require("max"), "domain.max");
+    if (const Json* p = f.find("periodic")) {
+        if (!p->is_array() || p->size() != 3)
+            key_error("domain.periodic", "expected 3 booleans (x, y, z), got " + p->dump());
+        for (std::size_t k = 0; k < 3; ++k) d.periodic[k] = read_bool((*p)[k], "domain.periodic[" + std::to_string(k) + "]");
+    }
+    d.split_axis = f.choice("split_axis", -1, {{"auto", -1}, {"x", 0}, {"y", 1}, {"z", 2}});
+    return d;
+}
+
+FluidBlock read_fluid(const Json& v, const std::string& path) {
+    Fields f(v, path, {"min", "max", "velocity", "surface"});
+    FluidBlock b;
+    b.min = read_vec3(f.require("min"), f.path_of("min"));
+    b.max = read_vec3(f.require("max"), f.path_of("max"));
+    b.velocity = f.vec3("velocity", b.velocity);
+    if (const Json* s = f.find("surface"); s && !s->is_null()) b.surface = read_number(*s, f.path_of("surface"));
+    return b;
+}
+
+unsigned read_faces(const Json& v, const std::string& path) {
+    static const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    const std::string usage = "expected \"all\" or an array of faces such as [\"x-\", \"x+\", \"z-\"]";
+    if (v.is_string() && v.get<std::string>() == "all") return all_faces;
+    if (!v.is_array()) key_error(path, usage + ", got " + v.dump());
+    if (v.empty()) key_error(path, "expected at least one face");
+    unsigned faces = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const std::string s = read_string(v[i], path + "[" + std::to_string(i) + "]");
+        const auto* it = std::find(names, names + 6, s);
+        if (it == names + 6)
+            key_error(path + "[" + std::to_string(i) + "]", "unknown face \"" + s + "\" (faces: x-, x+, y-, y+, z-, z+)");
+        faces |= 1u << (it - names);
+    }
+    return faces;
+}
+
+int read_layers(Fields& f, int fallback, int least) {
+    const int layers = f.integer("layers", fallback);
+    if (layers < least || layers > 16)
+        key_error(f.path_of("layers"), "must be " + std::to_string(least) + " to 16 (got " + std::to_string(layers) + ")");
+    return layers;
+}
+
+std::string resolve_mesh_path(const Json& v, const std::string& key, const std::string& base_dir) {
+    const std::string raw = read_string(v, key);
+    if (raw.empty()) key_error(key, "expected the path of an OBJ file");
+    fs::path p(raw);
+    if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;
+    std::error_code ec;
+    const fs::path abs = fs::absolute(p, ec);
+    const std::string resolved = (ec ? p : abs).lexically_normal().string();
+    // Checked here, before any particle is sampled, so a missing mesh is reported with its key.
+    std::ifstream probe(resolved);
+    if (!probe)
+        key_error(key, "cannot read \"" + resolved + "\": " + std::strerror(errno) + mesh_install_hint(resolved));
+    return resolved;
+}
+
+MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir) {
+    Fields f(v, path, {"path", "scale", "translate", "fluid", "layers"});
+    MeshObject m;
+    m.path = resolve_mesh_path(f.require("path"), f.path_of("path"), base_dir);
+    m.scale = f.number("scale", m.scale);
+    if (!(m.scale > 0)) key_error(f.path_of("scale"), "must be positive");
+    m.translate = f.vec3("translate", m.translate);
+    m.fluid = f.boolean("fluid", m.fluid);
+    m.layers = read_layers(f, m.layers, 1);
+    return m;
+}
+
+void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
+    Fields f(v, "boundaries", {"walls", "boxes", "meshes"});
+    if (const Json* walls = f.find("walls"))
+        for_each_element(*walls, "boundaries.walls", [&](const Json& e, const std::string& path) {
+            Fields w(e, path, {"min", "max", "faces", "layers"});
+            BoxWalls b;
+            b.min = read_vec3(w.require("min"), w.path_of("min"));
+            b.max = read_vec3(w.require("max"), w.path_of("max"));
+            if (const Json* faces = w.find("faces")) b.faces = read_faces(*faces, w.path_of("faces"));
+            b.layers = read_layers(w, b.layers, 1);
+            s.walls.push_back(b);
+        });
+    if (const Json* boxes = f.find("boxes"))
+        for_each_element(*boxes, "boundaries.boxes", [&](const Json& e, const std::string& path) {
+            Fields w(e, path, {"min", "max", "layers"});
+            SolidBox b;
+            b.min = read_vec3(w.require("min"), w.path_of("min"));
+            b.max = read_vec3(w.require("max"), w.path_of("max"));
+            b.layers = read_layers(w, b.layers, 0);
+            s.solids.push_back(b);
+        });
+    if (const Json* meshes = f.find("meshes"))
+        for_each_element(*meshes, "boundaries.meshes",
+                         [&](const Json& e, const std::string& path) { s.meshes.push_back(read_mesh(e, path, base_dir)); });
+}
+
+bool valid_probe_name(const std::string& name) {
+    if (name.empty() || name.size() > 64) return false;
+    for (char c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
+    return name != "." && name != "..";
+}
+
+void read_probes(const Json& v, Scene& s) {
+    std::set<std::string> names;
+    for_each_element(v, "probes", [&](const Json& e, const std::string& path) {
+        Fields f(e, path, {"name", "kind", "point"});
+        Probe p;
+        p.kind = f.choice("kind", Probe::Kind::pressure, {{"pressure", Probe::Kind::pressure}, {"height", Probe::Kind::height}});
+        const bool height = p.kind == Probe::Kind::height;
+        p.name = f.text("name", (height ? "height" : "pressure") + std::to_string(s.probes.size()));
+        // Probe names become file names (one CSV per probe).
+        if (!valid_probe_name(p.name))
+            key_error(f.path_of("name"), "\"" + p.name + "\" is not a usable name (letters, digits, _ - . only, at most 64)");
+        if (!names.insert(p.name).second) key_error(f.path_of("name"), "another probe is already named \"" + p.name + "\"");
+        p.point = read_point(f.require("point"), f.path_of("point"), height ? 2 : 3);
+        if (height) p.point[2] = 0;  // a height probe is a vertical line at (x, y)
+        s.probes.push_back(p);
+    });
+}
+
+RunControl read_run(const Json& v) {
+    Fields f(v, "run", {"end_time", "output_every", "probe_every"});
+    RunControl r;
+    r.end_time = f.number("end_time", r.end_time);
+    r.output_every = f.number("output_every", r.output_every);
+    r.probe_every = f.integer("probe_every", r.probe_every);
+    return r;
+}
+
+}  // namespace
+
+std::string scene_name_for(const std::string& path) {
+    const std::string stem = fs::path(path).stem().string();
+    return stem.empty() ? "scene" : stem;
+}
+
+Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
+    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run"});
+    Scene s;
+    s.name = top.text("name", origin.default_name);
+    s.physics = read_physics(top.require("physics"));
+    s.domain = read_domain(top.require("domain"));
+    if (const Json* fluid = top.find("fluid"))
+        for_each_element(*fluid, "fluid", [&](const Json& e, const std::string& path) { s.fluids.push_back(read_fluid(e, path)); });
+    if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
+    if (const Json* p = top.find("probes")) read_probes(*p, s);
+    if (const Json* r = top.find("run")) s.run = read_run(*r);
+
+    const bool fluid_mesh = std::any_of(s.meshes.begin(), s.meshes.end(), [](const MeshObject& m) { return m.fluid; });
+    if (s.fluids.empty() && !fluid_mesh)
+        key_error("fluid", "the scene has no fluid: give at least one fluid block (or a mesh with \"fluid\": true)");
+    s.validate();
+    return s;
+}
+
+}  // namespace clsph::scene

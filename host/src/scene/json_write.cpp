@@ -1,0 +1,125 @@
+// Scene -> scene document: every key written, defaults included, so that a run's resolved scene
+// (run.json) says exactly what was simulated and reads back to the same Scene.
+#include "scene/json_scene.hpp"
+
+namespace clsph::scene {
+namespace {
+
+Json vec(const Vec3& v) { return Json::array({v[0], v[1], v[2]}); }
+
+const char* kernel_name(KernelType k) { return k == KernelType::cubic_spline ? "cubic" : "wendland"; }
+const char* density_name(DensityMode d) { return d == DensityMode::summation ? "summation" : "continuity"; }
+const char* diffusion_name(Diffusion d) {
+    switch (d) {
+        case Diffusion::none: return "none";
+        case Diffusion::molteni_colagrossi: return "molteni";
+        case Diffusion::fourtakas: break;
+    }
+    return "fourtakas";
+}
+const char* axis_name(int a) { return a == 0 ? "x" : a == 1 ? "y" : a == 2 ? "z" : "auto"; }
+
+Json faces_value(unsigned faces) {
+    if ((faces & all_faces) == all_faces) return "all";
+    static const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    Json list = Json::array();
+    for (int k = 0; k < 6; ++k)
+        if (faces & (1u << k)) list.push_back(names[k]);
+    return list;
+}
+
+Json physics(const PhysicsParams& p) {
+    Json j;
+    j["dp"] = p.dp;
+    j["hdp"] = p.hdp;
+    j["kernel"] = kernel_name(p.kernel);
+    j["density"] = density_name(p.density);
+    j["diffusion"] = diffusion_name(p.diffusion);
+    j["delta"] = p.delta;
+    j["rho0"] = p.rho0;
+    j["gamma"] = p.gamma;
+    j["coefsound"] = p.coefsound;
+    j["c0"] = p.c0;
+    j["alpha"] = p.alpha;
+    j["gravity"] = vec(p.gravity);
+    j["cfl"] = p.cfl;
+    j["density_min"] = p.density_min;
+    j["density_max"] = p.density_max;
+    return j;
+}
+
+Json boundaries(const Scene& s) {
+    Json walls = Json::array(), boxes = Json::array(), meshes = Json::array();
+    for (const auto& w : s.walls) {
+        Json j;
+        j["min"] = vec(w.min);
+        j["max"] = vec(w.max);
+        j["faces"] = faces_value(w.faces);
+        j["layers"] = w.layers;
+        walls.push_back(j);
+    }
+    for (const auto& b : s.solids) {
+        Json j;
+        j["min"] = vec(b.min);
+        j["max"] = vec(b.max);
+        j["layers"] = b.layers;
+        boxes.push_back(j);
+    }
+    for (const auto& m : s.meshes) {
+        Json j;
+        j["path"] = m.path;
+        j["scale"] = m.scale;
+        j["translate"] = vec(m.translate);
+        j["fluid"] = m.fluid;
+        j["layers"] = m.layers;
+        meshes.push_back(j);
+    }
+    Json j;
+    j["walls"] = walls;
+    j["boxes"] = boxes;
+    j["meshes"] = meshes;
+    return j;
+}
+
+}  // namespace
+
+Json scene_to_document(const Scene& s) {
+    Json doc;
+    doc["name"] = s.name;
+    doc["physics"] = physics(s.physics);
+    Json domain;
+    domain["min"] = vec(s.domain.min);
+    domain["max"] = vec(s.domain.max);
+    domain["periodic"] = Json::array({s.domain.periodic[0], s.domain.periodic[1], s.domain.periodic[2]});
+    domain["split_axis"] = axis_name(s.domain.split_axis);
+    doc["domain"] = domain;
+    Json fluid = Json::array();
+    for (const auto& f : s.fluids) {
+        Json j;
+        j["min"] = vec(f.min);
+        j["max"] = vec(f.max);
+        j["velocity"] = vec(f.velocity);
+        j["surface"] = f.surface ? Json(*f.surface) : Json(nullptr);
+        fluid.push_back(j);
+    }
+    doc["fluid"] = fluid;
+    doc["boundaries"] = boundaries(s);
+    Json probes = Json::array();
+    for (const auto& p : s.probes) {
+        Json j;
+        j["name"] = p.name;
+        const bool height = p.kind == Probe::Kind::height;
+        j["kind"] = height ? "height" : "pressure";
+        j["point"] = height ? Json::array({p.point[0], p.point[1]}) : vec(p.point);
+        probes.push_back(j);
+    }
+    doc["probes"] = probes;
+    Json run;
+    run["end_time"] = s.run.end_time;
+    run["output_every"] = s.run.output_every;
+    run["probe_every"] = s.run.probe_every;
+    doc["run"] = run;
+    return doc;
+}
+
+}  // namespace clsph::scene

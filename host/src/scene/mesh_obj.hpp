@@ -1,0 +1,36 @@
+// Triangle meshes from Wavefront OBJ files: the `v` and `f` lines (faces fan-triangulated,
+// `v/vt/vn` index forms and negative indices accepted), everything else ignored.
+#pragma once
+#include "clsph/scene.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace clsph::scene {
+
+struct TriangleMesh {
+    std::vector<Vec3> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+// Throws SceneError naming the file (and the line) when it cannot be read, has no faces or an
+// index out of range. Faces that repeat a vertex (zero area) are dropped.
+TriangleMesh read_obj(const std::string& path);
+
+// Edges not shared by exactly two triangles, after welding vertices at the same position (OBJ
+// exporters often repeat a position for each texture seam). 0 for a closed manifold mesh.
+struct EdgeCount {
+    std::size_t edges = 0, open = 0;
+};
+EdgeCount count_open_edges(const TriangleMesh& mesh);
+
+// read_obj, then SceneError naming the file unless the mesh is closed.
+TriangleMesh read_closed_obj(const std::string& path);
+
+// Advice for a mesh file that is missing ("" when there is none): the meshes our scenes use come
+// from Debian packages.
+std::string mesh_install_hint(const std::string& path);
+
+}  // namespace clsph::scene
