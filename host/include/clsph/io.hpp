@@ -1,0 +1,52 @@
+// Particle frames on disk: VTU (ParaView), CSV, and the .pvd collection that makes a series of
+// VTU frames one time series in ParaView. Every file is written to "<path>.tmp" and renamed into
+// place, so a run that is cut short never leaves a half-written frame or collection behind.
+// Errors are clsph::Error naming the path and the OS error.
+#pragma once
+#include "clsph/particles.hpp"
+
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+// One frame as a VTK XML unstructured grid, binary (appended raw data, little or big endian as the
+// host is): points = positions (Float64), one vertex cell per particle (so ParaView's Surface and
+// Points representations show them), point data id (UInt32), type (UInt8: 0 fluid, 1 boundary),
+// velocity (Float32 x 3), density and pressure (Float32).
+void write_vtu(const std::string& path, const Particles& particles);
+
+// Reads a file written by write_vtu (not VTU files in general: for round-trip tests and tools).
+Particles read_vtu(const std::string& path);
+
+// One frame as CSV with the header `id,type,x,y,z,vx,vy,vz,rho,p`; type is 0 (fluid) or 1
+// (boundary); every number is written with as many digits as reading it back exactly needs.
+void write_csv(const std::string& path, const Particles& particles);
+Particles read_csv(const std::string& path);
+
+struct PvdEntry {
+    double time = 0.0;  // simulated seconds
+    std::string file;   // as written in the collection: relative to the .pvd's directory
+};
+
+// A ParaView collection (.pvd) that grows by one frame at a time. The file is valid from the
+// moment the writer exists (an empty collection) and is rewritten whole after each add().
+class PvdWriter {
+public:
+    explicit PvdWriter(std::string path);
+    // `file` as the collection should name it: relative to the .pvd's directory, so that the
+    // output directory can be moved.
+    void add(double time, const std::string& file);
+    const std::string& path() const { return path_; }
+    const std::vector<PvdEntry>& entries() const { return entries_; }
+
+private:
+    void rewrite() const;
+    std::string path_;
+    std::vector<PvdEntry> entries_;
+};
+
+// The entries of a .pvd written by PvdWriter, in file order.
+std::vector<PvdEntry> read_pvd(const std::string& path);
+
+}  // namespace clsph
