@@ -1,0 +1,140 @@
+// Malformed scenes: each gives a SceneError whose message names the file and the key (or the
+// line and column), never a crash or a message about something else.
+#include "support.hpp"
+
+#include <clsph/scene.hpp>
+#include <clsph/scene_io.hpp>
+
+#include <vector>
+
+using scene_test::corpus;
+using scene_test::error_of;
+
+namespace {
+
+struct Case {
+    const char* file;
+    const char* expected;  // a substring of the message, after "<file>: "
+};
+
+// Every file in tests/scene/corpus/ but valid_base.json, with what its message must say.
+const std::vector<Case> corpus_cases = {
+    {"empty.json", "the file is empty"},
+    {"whitespace_only.json", "the file is empty"},
+    {"binary_garbage.json", "line 1, column 5: byte \\x02: this is not a text file"},
+    {"top_level_array.json", "expected a JSON object at the top level, got an array"},
+    {"truncated.json", "unexpected end of input"},
+    {"syntax_error.json", "line 4, column 10: syntax error while parsing object separator - unexpected number literal; expected ':'"},
+    {"trailing_comma.json", "line 2, column 26: syntax error while parsing object key"},
+    {"duplicate_key.json", "physics.dp: duplicate key"},
+    {"huge_number.json", "line 4, column 11: number overflow parsing '1e999'"},
+    {"invalid_utf8.json", "line 1, column 10: syntax error while parsing value - invalid string: ill-formed UTF-8 byte"},
+    {"unknown_top_key.json", "phisics: unknown key (did you mean \"physics\"?)"},
+    {"unknown_physics_key.json", "physics.dpp: unknown key (did you mean \"dp\"?)"},
+    {"unknown_wall_key.json", "boundaries.walls[0].layer: unknown key (did you mean \"layers\"?)"},
+    {"missing_dp.json", "physics.dp: missing required key"},
+    {"missing_physics.json", "physics: missing required key"},
+    {"missing_domain.json", "domain: missing required key"},
+    {"missing_fluid.json", "fluid: the scene has no fluid"},
+    {"wrong_type_dp.json", "physics.dp: expected a number, got a string"},
+    {"wrong_type_physics.json", "physics: expected an object, got a number"},
+    {"wrong_type_fluid.json", "fluid: expected an array, got an object"},
+    {"fluid_max_two_numbers.json", "fluid[1].max: expected 3 numbers, got 2 elements"},
+    {"wrong_type_periodic.json", "domain.periodic[1]: expected true or false, got a string"},
+    {"wrong_type_gravity.json", "physics.gravity: expected 3 numbers, element 2 is a string"},
+    {"bad_kernel.json", "physics.kernel: unknown value \"gauss\" (expected one of \"wendland\", \"cubic\")"},
+    {"bad_face.json", "boundaries.walls[0].faces[1]: unknown face \"bottom\""},
+    {"layers_fraction.json", "boundaries.walls[0].layers: expected an integer, got 2.5"},
+    {"layers_zero.json", "boundaries.walls[0].layers: must be 1 to 16"},
+    {"bad_split_axis.json", "domain.split_axis: unknown value \"w\""},
+    {"negative_c0.json", "physics.c0: must be >= 0"},
+    {"gamma_not_7.json", "physics.gamma: only 7 is supported"},
+    {"fluid_outside_domain.json", "fluid[0]: block [0, 0, 0] - [0.4, 0.4, 2] is not inside the domain"},
+    {"dp_zero.json", "physics.dp: must be a positive number"},
+    {"dp_negative.json", "physics.dp: must be a positive number"},
+    {"absurd_particle_count.json", "physics.dp: gives about 64000000000000 fluid particles"},
+    {"overlapping_fluid.json", "fluid[1]: overlaps fluid[0]"},
+    {"domain_inverted.json", "domain.max: must be greater than domain.min"},
+    {"probe_outside.json", "probes[0].point: is outside the domain"},
+    {"probe_duplicate_name.json", "probes[1].name: another probe is already named \"p0\""},
+    {"probe_bad_name.json", "probes[0].name: \"../p0\" is not a usable name"},
+    {"height_probe_one_number.json", "probes[1].point: expected 2 or 3 numbers, got 1 element"},
+    {"mesh_missing.json", "boundaries.meshes[0].path: cannot read \""},
+    {"mesh_negative_scale.json", "boundaries.meshes[0].scale: must be positive"},
+    {"run_probe_every_zero.json", "run.probe_every: must be >= 1"},
+};
+
+}  // namespace
+
+TEST_CASE("every malformed scene in the corpus names its file and key") {
+    for (const auto& c : corpus_cases) {
+        CAPTURE(c.file);
+        const std::string path = corpus(c.file);
+        const std::string message = error_of([&] { (void)clsph::Scene::from_file(path); });
+        CAPTURE(message);
+        CHECK(message.rfind(path + ": ", 0) == 0);  // begins with the file
+        CHECK(message.find(c.expected) != std::string::npos);
+    }
+}
+
+TEST_CASE("the corpus table covers every corpus file") {
+    std::size_t files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(corpus(""))) {
+        const std::string name = entry.path().filename().string();
+        if (name == "valid_base.json") continue;
+        ++files;
+        bool listed = false;
+        for (const auto& c : corpus_cases) listed = listed || name == c.file;
+        CHECK_MESSAGE(listed, name << " has no expected message in corpus_cases");
+    }
+    CHECK(files == corpus_cases.size());
+}
+
+TEST_CASE("a missing scene file names the file and the OS error") {
+    const std::string path = corpus("no_such_scene.json");
+    CHECK(error_of([&] { (void)clsph::Scene::from_file(path); }) == path + ": cannot read: No such file or directory");
+}
+
+TEST_CASE("a missing mesh names the resolved path, relative to the scene's directory") {
+    const std::string message = error_of([&] { (void)clsph::Scene::from_file(corpus("mesh_missing.json")); });
+    CHECK(message.find(std::filesystem::path(corpus("no_such_mesh.obj")).lexically_normal().string()) != std::string::npos);
+}
+
+TEST_CASE("from_json_text names the source it is given") {
+    CHECK(error_of([] { (void)clsph::Scene::from_json_text("{\"physics\": {}}", "inline.json"); }) ==
+          "inline.json: physics.dp: missing required key");
+    CHECK(error_of([] { (void)clsph::Scene::from_json_text("{\n  \"physics\": {\"dp\": 0.01}\n}", "inline.json"); }) ==
+          "inline.json: domain: missing required key");
+}
+
+TEST_CASE("bad --set overrides name the file, the override and the key") {
+    const std::string base = corpus("valid_base.json");
+    struct Override {
+        const char* set;
+        const char* expected;
+    };
+    const std::vector<Override> cases = {
+        {"physics.dpp=1", "physics.dpp: unknown key (did you mean \"dp\"?) (set by --set physics.dpp=1)"},
+        {"physics.dp=0", "physics.dp: must be a positive number (got 0.000000) (set by --set physics.dp=0)"},
+        {"physics.kernel=gauss", "physics.kernel: unknown value \"gauss\" (expected one of \"wendland\", \"cubic\") (set by --set physics.kernel=gauss)"},
+        {"fluid[0].max=[1,2]", "fluid[0].max: expected 3 numbers, got 2 elements (set by --set fluid[0].max=[1,2])"},
+        {"fluid.0.max=oops", "fluid[0].max: expected 3 numbers, got a string (set by --set fluid.0.max=oops)"},
+        {"fluid[1]={\"min\":[0.1,0,0],\"max\":[0.3,0.2,0.2]}", "fluid[1]: overlaps fluid[0] (set by --set fluid[1]="},
+        {"physics.dp", "--set physics.dp: expected KEY=VALUE"},
+        {"=3", "--set =3: empty key"},
+        {"physics..dp=1", "--set physics..dp=1: empty key between dots"},
+        {"physics.dp.=1", "--set physics.dp.=1: the key ends with '.'"},
+        {"fluid[x].max=1", "--set fluid[x].max=1: '[x]' is not an array index"},
+        {"fluid[0.max=1", "--set fluid[0.max=1: unclosed '[' in the key"},
+        {"fluid[5].max=[1,1,1]", "--set fluid[5].max=[1,1,1]: fluid[5]: index out of range (the array has 1 elements)"},
+        {"physics.dp.x=1", "--set physics.dp.x=1: physics.dp is a number, which has no key \"x\""},
+        {"physics[0]=1", "--set physics[0]=1: physics is an object, which has no element [0]"},
+    };
+    for (const auto& c : cases) {
+        CAPTURE(c.set);
+        const std::string message = error_of([&] { (void)clsph::load_scene(base, {c.set}); });
+        CAPTURE(message);
+        CHECK(message.rfind(base + ": ", 0) == 0);
+        CHECK(message.find(c.expected) != std::string::npos);
+    }
+}

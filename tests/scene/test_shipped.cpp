@@ -1,0 +1,108 @@
+// The scenes shipped in scenes/: each reads and validates; the small ones build their particles,
+// all inside the domain (walls' outer layers included), with the counts their geometry implies.
+#include "support.hpp"
+
+#include <clsph/scene.hpp>
+#include <clsph/scene_io.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+#include <chrono>
+
+using scene_test::error_of;
+using scene_test::source_path;
+
+namespace {
+
+struct Counts {
+    std::size_t boundary = 0, fluid = 0, coincident = 0;
+};
+
+// Particles at the same lattice point (two boundary objects that touch, sampled twice).
+std::size_t coincident(const clsph::Particles& p, double dp) {
+    std::vector<std::array<long long, 3>> keys(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (int k = 0; k < 3; ++k) keys[i][k] = std::llround(p.position[i][k] / dp * 1000.0);
+    std::sort(keys.begin(), keys.end());
+    return static_cast<std::size_t>(keys.end() - std::unique(keys.begin(), keys.end()));
+}
+
+Counts build_and_check(const clsph::Scene& s) {
+    const auto start = std::chrono::steady_clock::now();
+    const clsph::Particles p = s.build_particles();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Counts c;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        (p.type[i] == clsph::ParticleType::fluid ? c.fluid : c.boundary) += 1;
+        for (int k = 0; k < 3; ++k) {
+            // Inside the domain; on a periodic axis strictly below max (max is min's image).
+            const double lo = s.domain.min[k], hi = s.domain.max[k];
+            const bool inside = p.position[i][k] >= lo && (s.domain.periodic[k] ? p.position[i][k] < hi : p.position[i][k] <= hi);
+            if (!inside) FAIL_CHECK("particle " << i << " at axis " << k << " = " << p.position[i][k] << " is outside the domain");
+        }
+    }
+    c.coincident = coincident(p, s.physics.dp);
+    MESSAGE(s.name << " at dp " << s.physics.dp << ": " << c.boundary << " boundary + " << c.fluid
+                   << " fluid particles, built in " << seconds << " s; " << c.coincident << " at a point already taken");
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("dam_break: a 2:1 column, L = 0.146 m, L/dp = 20, a periodic slice 13 particles deep") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/dam_break.json"));
+    CHECK(s.fluids.at(0).max[0] - s.fluids[0].min[0] == doctest::Approx(0.146));
+    CHECK(s.fluids[0].max[2] - s.fluids[0].min[2] == doctest::Approx(2 * 0.146));
+    CHECK(s.physics.dp == doctest::Approx(0.146 / 20));
+    const Counts c = build_and_check(s);
+    // x: dp ... L (the column at x = 0 is the wall's), z: dp ... 2L, y: 13 lattice lines.
+    CHECK(c.fluid == 20 * 40 * 13);
+    CHECK(c.coincident == 0);
+    CHECK(s.run.end_time * std::sqrt(2 * 9.81 / 0.146) > 3.0);  // covers the experiment's T <= 3
+}
+
+TEST_CASE("hydrostatic: a closed tank, water 0.5 m deep") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/hydrostatic.json"));
+    const Counts c = build_and_check(s);
+    CHECK(c.fluid == 24 * 9 * 25);
+    CHECK(c.coincident == 0);
+    const auto pressure_probes = std::count_if(s.probes.begin(), s.probes.end(),
+                                               [](const clsph::Probe& p) { return p.kind == clsph::Probe::Kind::pressure; });
+    CHECK(pressure_probes == 3);
+}
+
+TEST_CASE("spheric2: the benchmark case, built at a coarser dp through an override") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/spheric2.json"));
+    CHECK(s.physics.dp == 0.006);
+    CHECK(s.sound_speed() == doctest::Approx(20 * std::sqrt(9.81 * 0.55)));
+    // At dp = 0.006 it has ~5 million particles (test "spheric2 at dp 0.006", skipped by default).
+    const Counts c = build_and_check(clsph::load_scene(source_path("scenes/spheric2.json"), {"physics.dp=0.03"}));
+    // The water block keeps dp from the walls: x 1.992+ ... 3.22-dp, y dp ... 1-dp, z dp ... 0.55.
+    CHECK(c.fluid == 40 * 32 * 18);
+}
+
+TEST_CASE("spheric2 at dp 0.006: particle counts against the reference" * doctest::skip()) {
+    const Counts c = build_and_check(clsph::Scene::from_file(source_path("scenes/spheric2.json")));
+    MESSAGE("reference: 1975146 boundary + 3014550 fluid");
+    CHECK(std::abs(double(c.boundary) / 1975146.0 - 1.0) < 0.05);
+    CHECK(std::abs(double(c.fluid) / 3014550.0 - 1.0) < 0.05);
+}
+
+TEST_CASE("bunny: the Stanford bunny of glmark2-data falling onto a step") {
+    const std::string mesh = "/usr/share/glmark2/models/bunny.obj";
+    const std::string path = source_path("scenes/bunny.json");
+    if (!std::filesystem::exists(mesh)) {
+        const std::string message = error_of([&] { (void)clsph::Scene::from_file(path); });
+        CHECK(message.find("boundaries.meshes[0].path: cannot read \"" + mesh) != std::string::npos);
+        CHECK(message.find("apt-get install glmark2-data") != std::string::npos);
+        MESSAGE("bunny mesh absent: checked its error only");
+        return;
+    }
+    const clsph::Scene s = clsph::Scene::from_file(path);
+    const Counts c = build_and_check(s);
+    CHECK(c.fluid + c.boundary >= 100000);
+    CHECK(c.fluid + c.boundary <= 300000);
+    CHECK(c.coincident == 0);
+}
