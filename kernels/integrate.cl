@@ -15,15 +15,15 @@ __kernel void kick_drift(const uint first, const uint last, const float dt, cons
     if (i >= last) return;
     float4 vr = velrho[i];
     const float4 a = accel[i];
-    const float half = 0.5f * dt;
+    const float half_dt = 0.5f * dt;
     if (is_fluid(ids[i])) {
-        vr.xyz += a.xyz * half;
-        vr.w += a.w * half;
+        vr.xyz += a.xyz * half_dt;
+        vr.w += a.w * half_dt;
         float4 p = pos[i];
         p.xyz += vr.xyz * dt;
         pos[i] = p;
     } else {
-        vr.w = fmax(vr.w + a.w * half, rho0);
+        vr.w = fmax(vr.w + a.w * half_dt, rho0);
     }
     velrho[i] = vr;
 }
@@ -40,13 +40,13 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void kick(
     for (uint i = first + (uint)get_global_id(0); i < last; i += (uint)get_global_size(0)) {
         float4 vr = velrho[i];
         const float4 a = accel[i];
-        const float half = 0.5f * dt;
+        const float half_dt = 0.5f * dt;
         const bool fluid = is_fluid(ids[i]);
         if (fluid) {
-            vr.xyz += a.xyz * half;
-            vr.w += a.w * half;
+            vr.xyz += a.xyz * half_dt;
+            vr.w += a.w * half_dt;
         } else {
-            vr.w = fmax(vr.w + a.w * half, sp.rho0);
+            vr.w = fmax(vr.w + a.w * half_dt, sp.rho0);
         }
         velrho[i] = vr;
         const bool finite = isfinite(vr.x) && isfinite(vr.y) && isfinite(vr.z) && isfinite(vr.w) &&

@@ -6,6 +6,8 @@
 
 namespace clsph::cl_rt {
 
+std::vector<cl::Device> platform_devices(const cl::Platform& platform);  // devices.cpp
+
 Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const OpenOptions& options)
     : info_(std::move(info)),
       label_("#" + std::to_string(info_.index) + " " + info_.name + " (" + info_.platform + ")"),
@@ -83,8 +85,7 @@ std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const
     std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<cl::Device> all;
     for (auto& [name, p] : sorted) {
-        std::vector<cl::Device> devs;
-        if (p.getDevices(CL_DEVICE_TYPE_ALL, &devs) != CL_SUCCESS) continue;
+        const auto devs = platform_devices(p);
         all.insert(all.end(), devs.begin(), devs.end());
     }
     std::vector<std::unique_ptr<Device>> out;

@@ -43,6 +43,24 @@ std::string what_exists(const std::vector<DeviceInfo>& devices) {
     return s;
 }
 
+}  // namespace
+
+namespace cl_rt {
+// The devices of a platform, empty when it has none. (The C++ bindings throw on
+// CL_DEVICE_NOT_FOUND, which an empty platform such as Mesa's Clover without GPUs returns.)
+std::vector<cl::Device> platform_devices(const cl::Platform& platform) {
+    cl_uint count = 0;
+    if (clGetDeviceIDs(platform(), CL_DEVICE_TYPE_ALL, 0, nullptr, &count) != CL_SUCCESS || count == 0) return {};
+    std::vector<cl_device_id> ids(count);
+    if (clGetDeviceIDs(platform(), CL_DEVICE_TYPE_ALL, count, ids.data(), nullptr) != CL_SUCCESS) return {};
+    std::vector<cl::Device> out;
+    for (auto id : ids) out.emplace_back(id, false);
+    return out;
+}
+}  // namespace cl_rt
+
+namespace {
+
 std::string mib(std::uint64_t bytes) {
     std::ostringstream o;
     o << std::fixed << std::setprecision(0) << static_cast<double>(bytes) / (1024.0 * 1024.0) << " MiB";
@@ -70,11 +88,11 @@ std::vector<DeviceInfo> list_devices() {
 
     std::vector<DeviceInfo> out;
     for (auto& e : entries) {
-        std::vector<cl::Device> devs;
         // Platforms with no devices (Mesa's Clover on a machine without its GPUs) are skipped.
-        if (e.platform.getDevices(CL_DEVICE_TYPE_ALL, &devs) != CL_SUCCESS || devs.empty()) continue;
+        const std::vector<cl::Device> devs = cl_rt::platform_devices(e.platform);
+        if (devs.empty()) continue;
         const std::string vendor = e.platform.getInfo<CL_PLATFORM_VENDOR>();
-        for (auto& d : devs) {
+        for (const auto& d : devs) {
             DeviceInfo info;
             info.index = out.size();
             info.platform = e.name;

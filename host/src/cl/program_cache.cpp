@@ -17,9 +17,7 @@ cl::Program& ProgramCache::program(const std::string& file, const std::string& o
     const std::string key = file + "|" + std::to_string(std::hash<std::string>{}(source)) + "|" + full_options;
     if (auto it = programs_.find(key); it != programs_.end()) return it->second;
 
-    cl_int err = CL_SUCCESS;
-    cl::Program prog(context_, source, false, &err);
-    check(err, "creating program from " + file, label_);
+    cl::Program prog = guarded("creating program from " + file, label_, [&] { return cl::Program(context_, source, false); });
     try {
         prog.build(std::vector<cl::Device>{device_}, full_options.c_str());
     } catch (const cl::Error& e) {
@@ -38,10 +36,7 @@ cl::Program& ProgramCache::program(const std::string& file, const std::string& o
 
 cl::Kernel ProgramCache::kernel(const std::string& file, const std::string& name, const std::string& options) {
     cl::Program& prog = program(file, options);
-    cl_int err = CL_SUCCESS;
-    cl::Kernel k(prog, name.c_str(), &err);
-    check(err, "creating kernel '" + name + "' from " + file, label_);
-    return k;
+    return guarded("creating kernel '" + name + "' from " + file, label_, [&] { return cl::Kernel(prog, name.c_str()); });
 }
 
 }  // namespace clsph::cl_rt
