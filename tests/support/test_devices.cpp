@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <memory>
+#include "clsph/devices.hpp"
 #include <string>
 
 namespace clsph::test {
@@ -34,4 +35,13 @@ std::uint64_t seed() {
 
 std::mt19937_64 rng(std::uint64_t salt) { return std::mt19937_64(seed() ^ (salt * 0x9E3779B97F4A7C15ull)); }
 
+}  // namespace clsph::test
+
+namespace clsph::test {
+std::string validation_device_spec() {
+    if (const char* env = std::getenv("CLSPH_VALIDATION_DEVICES"); env && *env) return env;
+    for (const auto& d : list_devices())
+        if (d.name.find("pthread") != std::string::npos) return std::to_string(d.index);
+    return "default";
+}
 }  // namespace clsph::test

@@ -4,6 +4,7 @@
 #include "cl/device.hpp"
 
 #include <cstdint>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -19,4 +20,10 @@ std::uint64_t seed();
 // depend on each other's order.
 std::mt19937_64 rng(std::uint64_t salt);
 
+}  // namespace clsph::test
+
+namespace clsph::test {
+// The selection spec of the device long validation runs use: pocl's threaded CPU device when it
+// is present (the fastest CPU device in CI), otherwise the default selection.
+std::string validation_device_spec();
 }  // namespace clsph::test

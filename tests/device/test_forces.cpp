@@ -1,0 +1,208 @@
+// The force pass against a CPU implementation of the same formulas (kernels/forces.cl), every
+// device, both iteration schemes, each diffusion variant, viscosity on and off, both kernels.
+#include "device/physics.hpp"
+#include "support/test_devices.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace clsph;
+using namespace clsph::device;
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+
+double f_of(KernelType k, double h, double r) {  // (dW/dr) / r
+    const double q = r / h;
+    if (q >= 2 || r <= 0) return 0;
+    if (k == KernelType::wendland_c2) {
+        const double t = 1 - q / 2;
+        return -5 * 21.0 / (16 * kPi * h * h * h) / (h * h) * t * t * t;
+    }
+    const double a = 1 / (kPi * h * h * h);
+    return a / h * (q < 1 ? (-3 * q + 2.25 * q * q) : (-0.75 * (2 - q) * (2 - q))) / r;
+}
+double w_of(KernelType k, double h, double r) {
+    const double q = r / h;
+    if (q >= 2) return 0;
+    if (k == KernelType::wendland_c2) {
+        const double t = 1 - q / 2;
+        return 21.0 / (16 * kPi * h * h * h) * t * t * t * t * (2 * q + 1);
+    }
+    const double a = 1 / (kPi * h * h * h);
+    return q < 1 ? a * (1 - 1.5 * q * q + 0.75 * q * q * q) : a * 0.25 * (2 - q) * (2 - q) * (2 - q);
+}
+
+struct Expect {
+    std::vector<std::array<double, 4>> value;  // acceleration xyz + drho/dt (or density)
+    std::vector<double> scale;                 // sum of |terms|: the size round-off is relative to
+};
+
+// CPU forces.cl: every term written out separately, in double.
+Expect cpu_forces(const Scene& s, const Particles& p) {
+    const auto& ph = s.physics;
+    const double h = ph.h(), c0 = s.sound_speed(), rho0 = ph.rho0;
+    const double B = c0 * c0 * rho0 / 7.0, m = rho0 * ph.dp * ph.dp * ph.dp;
+    const double eta2 = 0.01 * h * h, dcoef = ph.delta * h * c0, hydro = rho0 * rho0 / (7.0 * B);
+    auto pres = [&](double rho) { return B * (std::pow(rho / rho0, 7.0) - 1); };
+    const std::size_t n = p.size();
+    Expect e;
+    e.value.assign(n, {0, 0, 0, 0});
+    e.scale.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool fi = p.type[i] == ParticleType::fluid;
+        const double ri = p.density[i], pi = pres(ri);
+        double ax = 0, ay = 0, az = 0, drho = 0, scale = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            if (i == j) continue;
+            double d[3], v[3], r2 = 0, vd = 0;
+            for (int k = 0; k < 3; ++k) {
+                d[k] = p.position[i][k] - p.position[j][k];
+                v[k] = double(p.velocity[i][k]) - p.velocity[j][k];
+                r2 += d[k] * d[k];
+                vd += v[k] * d[k];
+            }
+            if (r2 >= 4 * h * h) continue;
+            const double r = std::sqrt(r2), f = f_of(ph.kernel, h, r), rj = p.density[j];
+            const bool fj = p.type[j] == ParticleType::fluid;
+            // continuity
+            const double cont = m * vd * f;
+            if (!(ph.density == DensityMode::summation && fi)) drho += cont;
+            scale += std::abs(cont);
+            // diffusion
+            if (ph.diffusion == Diffusion::molteni_colagrossi) {
+                const double t = dcoef * 2 * (rj - ri) * (-f) * m / rj;
+                drho += t;
+                scale += std::abs(t);
+            } else if (ph.diffusion == Diffusion::fourtakas && fi && fj) {
+                const double gr = ph.gravity[0] * -d[0] + ph.gravity[1] * -d[1] + ph.gravity[2] * -d[2];
+                const double t = dcoef * 2 * (rj - ri - hydro * gr) * (-f) * m / rj;
+                drho += t;
+                scale += std::abs(t);
+            }
+            if (fi) {
+                double coef = (pi + pres(rj)) / (ri * rj);                        // pressure
+                if (fj && vd < 0) coef += -ph.alpha * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));  // viscosity
+                ax += -m * coef * f * d[0];
+                ay += -m * coef * f * d[1];
+                az += -m * coef * f * d[2];
+                scale += std::abs(m * coef * f) * r;
+            }
+        }
+        if (fi) {
+            ax += ph.gravity[0];
+            ay += ph.gravity[1];
+            az += ph.gravity[2];
+        }
+        e.value[i] = {ax, ay, az, drho};
+        e.scale[i] = scale + 1e-3;
+    }
+    return e;
+}
+
+// Shepard-free summation density with the free-surface floor of density.cl.
+std::vector<double> cpu_summation(const Scene& s, const Particles& p) {
+    const auto& ph = s.physics;
+    const double h = ph.h(), m = ph.rho0 * ph.dp * ph.dp * ph.dp;
+    std::vector<double> out(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        double mw = 0, vw = 0;
+        for (std::size_t j = 0; j < p.size(); ++j) {
+            double r2 = 0;
+            for (int k = 0; k < 3; ++k) r2 += (p.position[i][k] - p.position[j][k]) * (p.position[i][k] - p.position[j][k]);
+            const double w = w_of(ph.kernel, h, std::sqrt(r2));
+            mw += m * w;
+            vw += m / p.density[j] * w;
+        }
+        out[i] = p.type[i] != ParticleType::fluid ? p.density[i] : (vw < 0.95 ? std::max(mw, ph.rho0) : mw);
+    }
+    return out;
+}
+
+Particles random_block(std::mt19937_64& gen, double dp) {
+    std::uniform_real_distribution<double> jitter(-0.3 * dp, 0.3 * dp), vel(-1.0, 1.0), rho(980.0, 1020.0);
+    Particles p;
+    std::uint32_t id = 0;
+    for (int i = 0; i < 9; ++i)
+        for (int j = 0; j < 8; ++j)
+            for (int k = 0; k < 7; ++k) {
+                const bool wall = k < 2;  // two bottom layers are boundary particles
+                const Vec3 x{0.1 + i * dp + (wall ? 0 : jitter(gen)), 0.1 + j * dp + (wall ? 0 : jitter(gen)),
+                             0.1 + k * dp + (wall ? 0 : jitter(gen))};
+                const std::array<float, 3> v = wall ? std::array<float, 3>{0, 0, 0}
+                                                    : std::array<float, 3>{float(vel(gen)), float(vel(gen)), float(vel(gen))};
+                p.push_back(id++, wall ? ParticleType::boundary : ParticleType::fluid, x, v, float(rho(gen)), 0.0f);
+            }
+    return p;
+}
+
+}  // namespace
+
+TEST_SUITE("physics") {
+TEST_CASE("every interaction term matches a CPU implementation on every device") {
+    struct Config {
+        Diffusion diffusion;
+        double alpha;
+        KernelType kernel;
+        DensityMode density;
+    };
+    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity},
+                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity},
+                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity},
+                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation}};
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        for (const auto& c : configs)
+            for (bool coarse : {false, true}) {
+                CAPTURE(static_cast<int>(c.diffusion));
+                CAPTURE(c.alpha);
+                CAPTURE(coarse);
+                CAPTURE(static_cast<int>(c.density));
+                Scene s;
+                s.physics.dp = 0.01;
+                s.physics.hdp = 1.5;
+                s.physics.c0 = 15.0;
+                s.physics.diffusion = c.diffusion;
+                s.physics.alpha = c.alpha;
+                s.physics.kernel = c.kernel;
+                s.physics.density = c.density;
+                s.domain.min = {0, 0, 0};
+                s.domain.max = {0.3, 0.3, 0.3};
+                auto gen = test::rng(300);
+                const Particles in = random_block(gen, s.physics.dp);
+                Grid grid(Box{s.domain.min, s.domain.max}, s.physics.support());
+                ParticleStore ps(*d, grid, in.size());
+                ps.upload(in);
+                CellPipeline cells(*d, grid);
+                Physics phys(*d, grid, s, coarse);
+                cells.run(ps);
+                const Particles before = ps.download();  // sorted order, float-rounded values
+                d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison
+                phys.forces(ps, cells);
+                std::vector<float> acc(4 * before.size());
+                d->read(ps.accel, acc.data(), acc.size());
+                const Particles after = ps.download();
+                Particles ref_state = before;
+                if (c.density == DensityMode::summation) {
+                    const auto rho = cpu_summation(s, before);
+                    for (std::size_t i = 0; i < rho.size(); ++i) {
+                        CHECK(after.density[i] == doctest::Approx(rho[i]).epsilon(1e-5));
+                        ref_state.density[i] = after.density[i];
+                    }
+                }
+                const Expect e = cpu_forces(s, ref_state);
+                std::size_t bad = 0;
+                for (std::size_t i = 0; i < before.size(); ++i)
+                    for (int k = 0; k < 4; ++k) {
+                        const double got = acc[4 * i + k], want = e.value[i][k];
+                        if (!(std::abs(got - want) <= 2e-5 * e.scale[i] + 1e-6) && bad++ < 8)
+                            FAIL_CHECK("particle " << before.id[i] << " component " << k << ": device " << got
+                                                   << ", CPU " << want << " (scale " << e.scale[i] << ")");
+                    }
+                CHECK(bad == 0);
+            }
+    }
+}
+}
