@@ -20,11 +20,12 @@ std::optional<Mode> mode_from_string(std::string_view text);  // "dynamic" | "st
 // How each device's time model is fitted (see time_model.hpp).
 struct ModelOptions {
   // Steps kept in the sliding window.
-  std::size_t window = 16;
-  // Weight of a sample one step older, relative to the newer one. 0.95 gives about fifteen
-  // effective samples over the window: jitter of +-5 % averages to under 1 %. Sudden speed changes
-  // do not wait for forgetting (see change_threshold).
-  double forgetting = 0.95;
+  std::size_t window = 64;
+  // Weight of a sample one step older, relative to the newer one. 0.98 over 64 steps gives about
+  // 55 effective samples: +-5 % jitter averages to 0.4 %, small next to gain_threshold, so jitter
+  // alone seldom moves a cut. A device that changes speed suddenly does not wait for forgetting
+  // (see change_threshold); a gradual drift is followed with a time constant of ~50 steps.
+  double forgetting = 0.98;
   // Ridge toward the anchor's fixed/per-unit split, as a relative work variance: a window whose
   // work varies by sqrt(ridge) = 10 % (standard deviation) weighs as much as the anchor. Below
   // that the split comes mostly from the anchor (the data cannot tell fixed from per-unit cost),
@@ -42,9 +43,10 @@ struct Options {
   // Narrowest non-empty slab, in columns: the halo width (the neighbours read the first and last
   // columns). A device may still be left idle, with no column at all.
   std::size_t min_columns = 1;
-  // Cuts move only when the best plan would lower the predicted step time (the slowest device) by
-  // at least this fraction: a move costs a migration, and jitter must not make cuts wander.
-  double gain_threshold = 0.02;
+  // Cuts move only when the best plan would lower the predicted step time (the slowest device), or
+  // the predicted imbalance, by at least this fraction: a move costs a migration, and jitter must
+  // not make cuts wander. 1.5 % is about four standard errors of a prediction at the defaults.
+  double gain_threshold = 0.015;
   // At most this many columns per cut per step, so a migration stays a small copy; 0 = unbounded.
   // Broken guard rails (a device over its capacity) are repaired even when that needs more.
   std::size_t max_move_columns = 16;
