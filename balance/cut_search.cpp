@@ -18,20 +18,24 @@ ColumnSums::ColumnSums(const ColumnProfile& profile)
   }
 }
 
+bool ColumnSums::fits(std::size_t begin, std::size_t end, double work_limit,
+                      std::size_t capacity) const {
+  return work_[end] <= work_[begin] + work_limit &&
+         (capacity == 0 || particles_[end] <= particles_[begin] + capacity);
+}
+
 std::size_t ColumnSums::furthest_end(std::size_t begin, double work_limit,
                                      std::size_t capacity) const {
-  if (!(work_limit >= 0.0)) return begin;
-  const auto by_work =
-      std::upper_bound(work_.begin() + static_cast<std::ptrdiff_t>(begin), work_.end(),
-                       work_[begin] + work_limit) - work_.begin() - 1;
-  std::size_t end = static_cast<std::size_t>(by_work);
-  if (capacity > 0) {
-    const auto by_particles =
-        std::upper_bound(particles_.begin() + static_cast<std::ptrdiff_t>(begin), particles_.end(),
-                         particles_[begin] + capacity) - particles_.begin() - 1;
-    end = std::min(end, static_cast<std::size_t>(by_particles));
+  // fits() is monotone in end: binary search for the last end that fits.
+  std::size_t lo = begin, hi = columns();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo + 1) / 2;
+    if (fits(begin, mid, work_limit, capacity))
+      lo = mid;
+    else
+      hi = mid - 1;
   }
-  return end;
+  return lo;
 }
 
 namespace {
@@ -57,12 +61,21 @@ class Search {
     for (std::size_t d = count; d-- > 0;) {
       const std::vector<char>& next = reach_[d + 1];
       for (std::size_t e = 0; e <= n; ++e) reachable_before[e + 1] = reachable_before[e] + next[e];
+      // The furthest end only moves forward as the start does: one sweep per device.
+      std::size_t end = 0;
       for (std::size_t c = 0; c <= n; ++c) {
         char ok = 0;
         if (allowed(d, c)) {
           ok = next[c];  // device d idle
-          const std::size_t first = c + min_width_, last = furthest_end(d, c, step_time);
-          if (!ok && first <= last) ok = reachable_before[last + 1] > reachable_before[first];
+          if (!ok && step_time >= devices_[d].fixed_seconds) {
+            const double work_limit = work_limit_of(d, step_time);
+            end = std::max(end, c);
+            while (end < n &&
+                   columns_.fits(c, end + 1, work_limit, devices_[d].capacity_particles))
+              ++end;
+            const std::size_t first = c + min_width_;
+            if (first <= end) ok = reachable_before[end + 1] > reachable_before[first];
+          }
         }
         reach_[d][c] = ok;
       }
@@ -93,6 +106,7 @@ class Search {
           if (next[e]) { consider(e); break; }
       }
       if (next[c]) consider(c);
+      if (best > n) throw std::logic_error("balance: cut search table has no way forward");
       cuts[d + 1] = best;
     }
     return cuts;
@@ -108,15 +122,18 @@ class Search {
     return windows_[cut].lo <= c && c <= windows_[cut].hi;
   }
 
-  // Last end column of a non-empty slab of device d starting at c that fits in step_time (c when
-  // none fits).
-  std::size_t furthest_end(std::size_t d, std::size_t c, double step_time) const {
+  // Most work device d can take within step_time (for step_time >= its fixed cost).
+  double work_limit_of(std::size_t d, double step_time) const {
     const SlabCost& cost = devices_[d];
-    if (step_time < cost.fixed_seconds) return c;
-    const double work_limit = cost.seconds_per_unit > 0.0
-                                  ? (step_time - cost.fixed_seconds) / cost.seconds_per_unit
-                                  : unbounded;
-    return columns_.furthest_end(c, work_limit, cost.capacity_particles);
+    return cost.seconds_per_unit > 0.0 ? (step_time - cost.fixed_seconds) / cost.seconds_per_unit
+                                       : unbounded;
+  }
+
+  // Last end column of a non-empty slab of device d starting at c that fits in step_time (c when
+  // none fits). Uses the same test as the sweep in feasible(), so the two always agree.
+  std::size_t furthest_end(std::size_t d, std::size_t c, double step_time) const {
+    if (step_time < devices_[d].fixed_seconds) return c;
+    return columns_.furthest_end(c, work_limit_of(d, step_time), devices_[d].capacity_particles);
   }
 
   const std::vector<SlabCost>& devices_;
@@ -149,7 +166,7 @@ Plan place_cuts(const std::vector<SlabCost>& devices, const ColumnSums& columns,
   hi = std::max(hi, 1e-300);
   while (!search.feasible(hi)) hi *= 2.0;
   double lo = 0.0;
-  for (int iteration = 0; iteration < 100 && hi - lo > 1e-9 * hi; ++iteration) {
+  for (int iteration = 0; iteration < 100 && hi - lo > 1e-7 * hi; ++iteration) {
     const double mid = 0.5 * (lo + hi);
     (search.feasible(mid) ? hi : lo) = mid;
   }
