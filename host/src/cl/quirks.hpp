@@ -26,6 +26,12 @@ struct Quirks {
     // (rusticl 22.3 also reports CL_KERNEL_LOCAL_MEM_SIZE as twice the kernel's local arrays and
     // does not enforce the limit; we budget local memory from the device's reported size.)
     bool kernel_work_group_size_understated = false;
+    // NVIDIA's OpenCL (driver 580.159.04, two H200s joined by NVLink): clEnqueueCopyBuffer in one
+    // context holding both GPUs, from a buffer last written on the other GPU, took ~200 ms at every
+    // size from 1 KiB to 256 MiB, where staging through pinned host memory across two contexts took
+    // 36 us (1 KiB) to 9.8 ms (256 MiB) (clsph-bench-transfer; BENCHMARKS.md). Where set, move data
+    // between devices by staging, with one context per device, never by shared-context copies.
+    bool shared_context_copies_stall = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);
