@@ -19,7 +19,7 @@ public:
     // defaults.
     struct Config {
         std::size_t work_group = 0;  // work-items per group, a power of two (0: the device's, <= 256)
-        std::size_t items = 0;       // elements per work-item, a multiple of 4 (0: 16)
+        std::size_t items = 0;       // elements per work-item, a multiple of 4 (0: 16, less if local memory is short)
         std::string name = "scan";   // launches are named "<name>.reduce" and "<name>.tiles"
     };
     explicit Scan(cl_rt::Device& device);
