@@ -20,9 +20,10 @@ struct Quirks {
 
     // --- found while writing the primitives (sort, scan, compaction) ---
     // Mesa rusticl 22.3 reports CL_KERNEL_WORK_GROUP_SIZE = 32 for every kernel, whatever its
-    // registers or local memory, yet runs work-groups up to the device's 1024 correctly (scan and
-    // radix-sort kernels full of barriers, checked at 64, 256 and 1024 work-items against a CPU
-    // result). Where set, the per-kernel query is ignored and the device limit used instead.
+    // registers or local memory, yet runs larger work-groups correctly (kernels full of barriers,
+    // checked against CPU results: the scan at 64, 256 and 1024 work-items, the device maximum;
+    // the radix sort at 64 and 256). Where set, the per-kernel query is ignored and the device
+    // limit used instead.
     // (rusticl 22.3 also reports CL_KERNEL_LOCAL_MEM_SIZE as twice the kernel's local arrays and
     // does not enforce the limit; we budget local memory from the device's reported size.)
     bool kernel_work_group_size_understated = false;
