@@ -22,7 +22,6 @@ typedef struct {
 #define NEIGHBOUR_T DensityNeighbour
 #define LOAD_NEIGHBOUR(nb, j)       \
     do {                            \
-        (nb).pos = pos[j];          \
         (nb).rho = velrho[j].w;     \
     } while (0)
 #define STATE_T DensityState

@@ -37,7 +37,6 @@ typedef struct {
 #define NEIGHBOUR_T ForceNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
-        (nb).pos = pos[j];                                                      \
         (nb).velrho = velrho[j];                                                \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
     } while (0)

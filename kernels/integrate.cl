@@ -1,7 +1,12 @@
-// Leap-frog in kick-drift-kick form (the host keeps time in double):
-//   kick_drift:  v += a dt/2, rho += drho dt/2, x += v dt        (a, drho from the last evaluation)
-//   [cell pass, forces at the new positions with the half-step v and rho]
-//   kick:        v += a dt/2, rho += drho dt/2, then checks and the reductions for the next dt
+// Leap-frog in kick-drift-kick form (the host keeps time in double), with the forces evaluated on
+// predicted full-step velocity and density so that positions, velocities and densities the force
+// pass sees belong to the same time level (a lagged density makes the acoustic modes unstable at
+// CFL 0.2; this is the standard predictor for velocity-dependent SPH forces):
+//   kick_drift:  x_{n+1} = x_n + (v_n + a_n dt/2) dt
+//                v* = v_n + a_n dt,  rho* = rho_n + drho_n dt           (predicted, stored in velrho)
+//   [cell pass (reorders accel too), forces at (x_{n+1}, v*, rho*) -> a_{n+1}, drho_{n+1}]
+//   kick:        v_{n+1} = v* + (a_{n+1} - a_n) dt/2 = v_n + (a_n + a_{n+1}) dt/2
+//                rho_{n+1} = rho* + (drho_{n+1} - drho_n) dt/2, then checks and the reductions for dt
 // Boundary particles do not move; their density may not fall below rho0 (as DualSPHysics does for
 // DBC), otherwise walls would suck fluid in.
 #include "shared.h"
@@ -15,38 +20,38 @@ __kernel void kick_drift(const uint first, const uint last, const float dt, cons
     if (i >= last) return;
     float4 vr = velrho[i];
     const float4 a = accel[i];
-    const float half_dt = 0.5f * dt;
     if (is_fluid(ids[i])) {
-        vr.xyz += a.xyz * half_dt;
-        vr.w += a.w * half_dt;
         float4 p = pos[i];
-        p.xyz += vr.xyz * dt;
+        p.xyz += (vr.xyz + a.xyz * (0.5f * dt)) * dt;
         pos[i] = p;
+        vr.xyz += a.xyz * dt;
+        vr.w += a.w * dt;
     } else {
-        vr.w = fmax(vr.w + a.w * half_dt, rho0);
+        vr.w = fmax(vr.w + a.w * dt, rho0);
     }
     velrho[i] = vr;
 }
 
-// Second kick, then per work-group: max |v|^2 and max |a|^2 of fluid, kinetic energy, fluid count
-// into partials[group]; the lowest index of a particle with a non-finite value or a density outside
-// [rho_min, rho_max] into *bad (the host fills it with 0xffffffff first).
+// Second kick (old accelerations in `accel`, new ones in `accel_new`), then per work-group: max
+// |v|^2 and max |a|^2 of fluid, kinetic energy, fluid count into partials[group]; the lowest index
+// of a particle with a non-finite value or a density outside [rho_min, rho_max] into *bad (the
+// host fills it with 0xffffffff first).
 __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void kick(
     const uint first, const uint last, const float dt, const SphParams sp, __global float4* velrho,
-    __global const float4* accel, __global const uint* ids, __global float4* partials, __global uint* bad) {
+    __global const float4* accel, __global const float4* accel_new, __global const uint* ids,
+    __global float4* partials, __global uint* bad) {
     __local float4 red[WG];
     const uint lid = get_local_id(0);
     float4 acc = (float4)(0.0f);
     for (uint i = first + (uint)get_global_id(0); i < last; i += (uint)get_global_size(0)) {
         float4 vr = velrho[i];
-        const float4 a = accel[i];
-        const float half_dt = 0.5f * dt;
+        const float4 a = accel_new[i];
+        const float4 da = (a - accel[i]) * (0.5f * dt);
         const bool fluid = is_fluid(ids[i]);
         if (fluid) {
-            vr.xyz += a.xyz * half_dt;
-            vr.w += a.w * half_dt;
+            vr += da;
         } else {
-            vr.w = fmax(vr.w + a.w * half_dt, sp.rho0);
+            vr.w = fmax(vr.w + da.w, sp.rho0);
         }
         velrho[i] = vr;
         const bool finite = isfinite(vr.x) && isfinite(vr.y) && isfinite(vr.z) && isfinite(vr.w) &&

@@ -9,7 +9,9 @@
 //   INTERACTION_NAME         kernel name
 //   INTERACTION_ARGS         extra kernel parameters, starting with a comma
 //   NEIGHBOUR_T              struct of what a pair needs from j; must have a float4 member `pos`
-//   LOAD_NEIGHBOUR(nb, j)    statement filling NEIGHBOUR_T nb from the kernel's arrays
+//   LOAD_NEIGHBOUR(nb, j)    statement filling NEIGHBOUR_T nb from the kernel's arrays except
+//                            `pos`, which the loop loads itself (the fine scheme reads the rest
+//                            only for candidates inside the support: most candidates are not)
 //   STATE_T                  the per-particle accumulator
 //   STATE_INIT(st, i, self)  statement (self is particle i's NEIGHBOUR_T)
 //   PAIR(st, self, nb, i, j, rij, r2)   statement, for every j (i itself included) with r2 < support2;
@@ -26,19 +28,37 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
     const uint i = first + (uint)get_global_id(0);
     if (i >= last) return;
     NEIGHBOUR_T self;
+    self.pos = pos[i];
     LOAD_NEIGHBOUR(self, i);
     const uint key_i = pos_key(self.pos);
     STATE_T st;
     STATE_INIT(st, i, self);
     const uint c = cell_of[i];
+    // Within a neighbour row only the b cell can differ, by -1, 0 or +1, and the row's keys are
+    // consecutive: key_j - key(row centre) is that difference. So each candidate costs one load,
+    // an integer subtraction and a few flops; the s and a offsets are per row.
+    const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
+    const uint b_i = key_b(g, key_i);
     for (uint r = 0; r < 9u; ++r) {
         const uint2 range = ranges[c * 9u + r];
+        if (range.x >= range.y) continue;
+        const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+        int a2 = a_i + da;  // only rows inside the domain are non-empty; a may wrap
+        if (a2 < 0) a2 += (int)g.n_a;
+        if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+        const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
+        float3 row_offset = -self.pos.xyz;
+        COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
+        COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
         for (uint j = range.x; j < range.y; ++j) {
-            NEIGHBOUR_T nb;
-            LOAD_NEIGHBOUR(nb, j);
-            const float3 rij = relative_position(g, key_i, self.pos, pos_key(nb.pos), nb.pos);
+            const float4 pj = pos[j];
+            float3 rij = pj.xyz + row_offset;
+            COMP(rij, AXIS_B) += (float)((int)(pos_key(pj) - centre)) * g.cell_b;
             const float r2 = dot(rij, rij);
             if (r2 < support2) {
+                NEIGHBOUR_T nb;
+                nb.pos = pj;
+                LOAD_NEIGHBOUR(nb, j);
                 PAIR(st, self, nb, i, j, rij, r2);
             }
         }
@@ -68,6 +88,7 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void INTERACTION_NAME(
         STATE_T st;
         uint key_i = 0;
         if (active) {
+            self.pos = pos[i];
             LOAD_NEIGHBOUR(self, i);
             key_i = pos_key(self.pos);
             STATE_INIT(st, i, self);
@@ -79,6 +100,7 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void INTERACTION_NAME(
                 barrier(CLK_LOCAL_MEM_FENCE);
                 if (lid < count) {
                     NEIGHBOUR_T nb;
+                    nb.pos = pos[tile_begin + lid];
                     LOAD_NEIGHBOUR(nb, tile_begin + lid);
                     tile[lid] = nb;
                 }

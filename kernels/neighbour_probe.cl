@@ -22,7 +22,6 @@ typedef struct {
 #define NEIGHBOUR_T ProbeNeighbour
 #define LOAD_NEIGHBOUR(nb, j) \
     do {                      \
-        (nb).pos = pos[j];    \
         (nb).q = quantity[j]; \
         (nb).id = ids[j];     \
     } while (0)

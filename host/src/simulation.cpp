@@ -83,8 +83,8 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     m.physics = std::make_unique<device::Physics>(d, m.grid, m.scene, options.coarse);
     const auto pass = m.cells->run(*m.store);
     m.info.removed = pass.removed;
-    m.physics->forces(*m.store, *m.cells);
-    const auto k = m.physics->kick(*m.store, 0.0);  // dt = 0: only the checks and reductions
+    m.physics->forces(*m.store, *m.cells, m.store->scratch);
+    const auto k = m.physics->kick(*m.store, 0.0);  // dt = 0: the checks, reductions and a_0 into accel
     if (k.bad_index >= 0) m.fail(k.bad_index);
     m.info.particles = m.store->ranges.owned;
     m.info.fluid = k.fluid;
@@ -102,7 +102,7 @@ const StepInfo& Simulation::step() {
     const double dt = m.dt_next;
     m.physics->kick_drift(*m.store, dt);
     const auto pass = m.cells->run(*m.store);
-    m.physics->forces(*m.store, *m.cells);
+    m.physics->forces(*m.store, *m.cells, m.store->scratch);
     const auto k = m.physics->kick(*m.store, dt);
     if (k.bad_index >= 0) m.fail(k.bad_index);
     m.info.step += 1;

@@ -180,7 +180,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 cells.run(ps);
                 const Particles before = ps.download();  // sorted order, float-rounded values
                 d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison
-                phys.forces(ps, cells);
+                phys.forces(ps, cells, ps.accel);
                 std::vector<float> acc(4 * before.size());
                 d->read(ps.accel, acc.data(), acc.size());
                 const Particles after = ps.download();

@@ -50,7 +50,7 @@ CellPassResult CellPipeline::run(ParticleStore& ps) {
     sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
 
     // Reorder through the one scratch buffer: gather A into scratch, then swap A and scratch.
-    for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho}) {
+    for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {
         gather4_k_.setArg(0, n);
         gather4_k_.setArg(1, ps.vals.get());
         gather4_k_.setArg(2, a->get());

@@ -2,6 +2,7 @@
 //   cells.keys     settle offsets into cells, key per particle (invalid outside the domain)
 //   sort           radix sort of (key, index) on the grid's key bits only
 //   reorder.*      every particle array into sorted order through the one scratch buffer
+//                  (positions, velocity+density, acceleration+drho/dt, ids)
 //   cells.flag / cells.scan / cells.scatter   compaction: cell_key[K], cell_start[K+1]
 //   cells.ranges   each cell's 9 neighbour rows as particle ranges
 // After run(), particles outside the domain are gone (counted), and vals holds each particle's

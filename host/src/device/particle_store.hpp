@@ -1,7 +1,7 @@
 // The particles of one device in device memory, structure of arrays:
 //   pos     float4  offset from the cell centre (xyz) + cell key bits (w)   — see grid.hpp
 //   velrho  float4  velocity (xyz) + density (w)
-//   accel   float4  acceleration (xyz) + drho/dt (w); recomputed after every sort, never reordered
+//   accel   float4  acceleration (xyz) + drho/dt (w) of the last force pass (the second kick needs it)
 //   id      uint    id (low 30 bits) + type (top 2 bits)
 //   keys, vals      sort keys and sort values / cell index per particle (capacity + 1 for the scan)
 //   scratch float4  the one rotating buffer through which arrays are reordered

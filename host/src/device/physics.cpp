@@ -76,7 +76,7 @@ void set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& c
 }
 }  // namespace
 
-void Physics::forces(ParticleStore& ps, const CellPipeline& cells) {
+void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out) {
     const std::size_t n = ps.ranges.owned;
     if (n == 0) return;
     const auto g = grid_.params();
@@ -101,7 +101,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells) {
     set_loop_args(forces_k_, ps, cells, g, sp_, coarse_);
     forces_k_.setArg(8, ps.velrho.get());
     forces_k_.setArg(9, ps.id.get());
-    forces_k_.setArg(10, ps.accel.get());
+    forces_k_.setArg(10, out.get());
     launch("sph.forces", forces_k_);
 }
 
@@ -127,10 +127,12 @@ KickResult Physics::kick(ParticleStore& ps, double dt) {
     kick_k_.setArg(3, sp_);
     kick_k_.setArg(4, ps.velrho.get());
     kick_k_.setArg(5, ps.accel.get());
-    kick_k_.setArg(6, ps.id.get());
-    kick_k_.setArg(7, partials_.get());
-    kick_k_.setArg(8, bad_.get());
+    kick_k_.setArg(6, ps.scratch.get());
+    kick_k_.setArg(7, ps.id.get());
+    kick_k_.setArg(8, partials_.get());
+    kick_k_.setArg(9, bad_.get());
     device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
+    ps.accel.swap(ps.scratch);
     std::vector<float> part(kick_groups_ * 4);
     cl_uint bad = none;
     device_.read(partials_, part.data(), part.size());

@@ -25,10 +25,14 @@ public:
     Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, bool coarse);
     const SphParams& params() const { return sp_; }
 
-    // Accelerations and drho/dt of the owned particles (summation mode: densities first).
-    void forces(ParticleStore& ps, const CellPipeline& cells);
+    // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
+    // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
+    // ps.accel.
+    void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     void kick_drift(ParticleStore& ps, double dt);
-    KickResult kick(ParticleStore& ps, double dt);  // blocking: reads the reductions back
+    // Combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps them so ps.accel
+    // holds the new ones. Blocking: reads the reductions back.
+    KickResult kick(ParticleStore& ps, double dt);
 
     // Per probe point: (sum V W, sum p V W) over fluid neighbours. Blocking.
     std::vector<std::array<float, 2>> probe(ParticleStore& ps, const CellPipeline& cells,

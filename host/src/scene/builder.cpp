@@ -105,6 +105,8 @@ void Scene::validate() const {
 Particles Scene::build_particles() const {
     validate();
     const double dp = physics.dp;
+    const double c0 = sound_speed(), rho0 = physics.rho0, gamma = physics.gamma;
+    const double B = c0 * c0 * rho0 / gamma;
     std::vector<Vec3> boundary, fluid;
     for (const auto& w : walls) scene::sample_walls(w, dp, boundary);
     for (const auto& b : solids) scene::sample_solid(b, dp, boundary);
@@ -127,13 +129,23 @@ Particles Scene::build_particles() const {
                     fluid.end());
     }
 
-    const double c0 = sound_speed(), rho0 = physics.rho0, gamma = physics.gamma;
-    const double B = c0 * c0 * rho0 / gamma;
     Particles out;
     out.id.reserve(boundary.size() + fluid.size());
     std::uint32_t next = 0;
-    for (const auto& x : boundary)
-        out.push_back(next++, ParticleType::boundary, x, {0, 0, 0}, static_cast<float>(rho0), 0.0f);
+    // Boundary particles start in hydrostatic equilibrium with the fluid beside or above them
+    // (within a kernel support of a block's footprint), so the fluid does not first fall into an
+    // unpressurised wall and bounce (a large, slowly damped transient with DBC).
+    const double reach = physics.support();
+    for (const auto& x : boundary) {
+        double p = 0.0;
+        for (const auto& f : fluids) {
+            const bool beside = x[0] >= f.min[0] - reach && x[0] <= f.max[0] + reach && x[1] >= f.min[1] - reach &&
+                                x[1] <= f.max[1] + reach;
+            if (beside) p = std::max(p, rho0 * -physics.gravity[2] * (f.surface.value_or(f.max[2]) - x[2]));
+        }
+        const double rho = rho0 * std::pow(1.0 + p / B, 1.0 / gamma);
+        out.push_back(next++, ParticleType::boundary, x, {0, 0, 0}, static_cast<float>(rho), static_cast<float>(p));
+    }
     for (const auto& x : fluid) {
         // Hydrostatic: p = rho0 |g_z| (surface - z) below the surface of the block the point is in.
         double surface = x[2];

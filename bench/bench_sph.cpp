@@ -1,0 +1,75 @@
+// The SPHERIC-2 benchmark (bench/spheric2_scene.hpp): particle counts, average ms/step over the
+// first 0.1 s of simulated time after set-up, wall seconds per simulated second, the per-kernel
+// breakdown, and device bytes per particle. Prints a markdown report.
+#include "spheric2_scene.hpp"
+
+#include "bench_util.hpp"
+#include "clsph/error.hpp"
+#include "clsph/simulation.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    CLI::App app{"clsph SPHERIC-2 benchmark"};
+    std::string devices;
+    double dp = 0.006, until = 0.1;
+    bool coarse = false;
+    app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
+    app.add_option("--dp", dp, "particle spacing (m)");
+    app.add_option("--until", until, "simulated seconds to time");
+    app.add_flag("--coarse", coarse, "coarse-grained interaction kernel");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        using clock = std::chrono::steady_clock;
+        const auto t0 = clock::now();
+        clsph::Scene scene = clsph::bench::spheric2_scene(dp);
+        clsph::Options opts;
+        opts.devices = devices;
+        opts.profile = true;
+        opts.coarse = coarse;
+        clsph::Simulation sim(scene, opts);
+        const double setup = std::chrono::duration<double>(clock::now() - t0).count();
+        const auto p = sim.particles();
+        std::size_t fluid = 0;
+        for (auto t : p.type) fluid += t == clsph::ParticleType::fluid;
+        std::printf("## SPHERIC-2, dp = %g m, %s iteration (%s)\n\n", dp, coarse ? "coarse" : "fine",
+                    clsph::bench::today().c_str());
+        for (const auto& n : sim.device_names()) std::printf("device: %s\n", n.c_str());
+        std::printf("particles: %zu (boundary %zu, fluid %zu); reference at dp 0.006: 4,989,696 (1,975,146 + 3,014,550)\n",
+                    p.size(), p.size() - fluid, fluid);
+        std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);
+        sim.profile();  // discard set-up launches from the breakdown
+        const auto t1 = clock::now();
+        std::uint64_t steps = 0;
+        sim.run_until(until, [&](const clsph::StepInfo& s) {
+            steps = s.step;
+            if (s.step % 500 == 0) std::fprintf(stderr, "  t = %.4f s, %llu steps\n", s.time, (unsigned long long)s.step);
+        });
+        const double wall = std::chrono::duration<double>(clock::now() - t1).count();
+        std::printf("steps: %llu to t = %.3f s; wall %.2f s\n", (unsigned long long)steps, sim.time(), wall);
+        std::printf("**%.2f ms/step**, %.0f wall s per simulated s, %.3g particle-steps/s\n\n", 1e3 * wall / steps,
+                    wall / sim.time(), double(p.size()) * steps / wall);
+        auto prof = sim.profile();
+        double total = 0;
+        for (const auto& k : prof) total += k.seconds;
+        std::sort(prof.begin(), prof.end(), [](const auto& a, const auto& b) { return a.seconds > b.seconds; });
+        std::printf("| kernel | calls | total ms | ms/step | %% |\n|---|---|---|---|---|\n");
+        for (const auto& k : prof)
+            std::printf("| %s | %zu | %.1f | %.3f | %.1f |\n", k.name.c_str(), k.calls, 1e3 * k.seconds,
+                        1e3 * k.seconds / steps, 100 * k.seconds / total);
+        std::printf("\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
+        for (const auto& m : sim.memory())
+            std::printf("memory on %s: peak %.1f MiB for %zu particles = %.1f bytes/particle (capacity %zu)\n",
+                        m.device.c_str(), m.peak_bytes / 1048576.0, m.particles, m.bytes_per_particle(),
+                        m.capacity_particles);
+    } catch (const clsph::Error& e) {
+        std::cerr << "clsph-bench-sph: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}
