@@ -144,6 +144,48 @@ class Search {
   double step_time_ = unbounded;  // of the last feasible() call
 };
 
+// A step time some plan surely meets: the preferred cuts' own, when they keep every rule;
+// otherwise the slowest device doing all the work alone.
+double upper_bound_step_time(const std::vector<SlabCost>& devices, const ColumnSums& columns,
+                             std::size_t min_columns, const std::vector<std::size_t>& preferred,
+                             const std::vector<CutWindow>& windows) {
+  bool usable = respects_guard_rails(devices, columns, min_columns, preferred) &&
+                preferred.front() == 0 && preferred.back() == columns.columns();
+  for (std::size_t k = 0; usable && k < windows.size(); ++k)
+    usable = windows[k].lo <= preferred[k] && preferred[k] <= windows[k].hi;
+  double hi = 0.0;
+  if (usable) {
+    const std::vector<double> seconds = predicted_seconds(devices, columns, preferred);
+    hi = *std::max_element(seconds.begin(), seconds.end()) * (1.0 + 1e-12);
+  } else {
+    for (const SlabCost& cost : devices)
+      hi = std::max(hi, cost.seconds(columns.work(0, columns.columns()), false));
+  }
+  return std::max(hi, 1e-300);
+}
+
+// A step time no plan beats: the continuous relaxation, where work divides anywhere and every
+// device takes (T - fixed) / per_unit of it.
+double lower_bound_step_time(const std::vector<SlabCost>& devices, double total_work,
+                             double guess) {
+  auto capacity_at = [&](double step_time) {
+    double work = 0.0;
+    for (const SlabCost& cost : devices) {
+      if (step_time <= cost.fixed_seconds) continue;
+      if (cost.seconds_per_unit <= 0.0) return unbounded;
+      work += (step_time - cost.fixed_seconds) / cost.seconds_per_unit;
+    }
+    return work;
+  };
+  double lo = 0.0, hi = guess;
+  while (capacity_at(hi) < total_work) hi *= 2.0;
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (capacity_at(mid) < total_work ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 }  // namespace
 
 Plan place_cuts(const std::vector<SlabCost>& devices, const ColumnSums& columns,
@@ -156,21 +198,23 @@ Plan place_cuts(const std::vector<SlabCost>& devices, const ColumnSums& columns,
 
   Search search(devices, columns, min_columns, windows);
   Plan plan;
-  if (!search.feasible(unbounded)) return plan;
-
-  // Upper bound: any capacity-feasible plan runs no slower than the slowest device doing all the
-  // work alone. Doubling covers rounding at the edge.
-  double hi = 0.0;
-  for (const SlabCost& cost : devices)
-    hi = std::max(hi, cost.seconds(columns.work(0, columns.columns()), false));
-  hi = std::max(hi, 1e-300);
-  while (!search.feasible(hi)) hi *= 2.0;
-  double lo = 0.0;
-  for (int iteration = 0; iteration < 100 && hi - lo > 1e-7 * hi; ++iteration) {
-    const double mid = 0.5 * (lo + hi);
-    (search.feasible(mid) ? hi : lo) = mid;
+  // Bracket the smallest step time tightly: each bisection step costs a full table. In steady
+  // state the preferred (current) cuts are nearly optimal, so the bracket starts a few % wide.
+  double hi = upper_bound_step_time(devices, columns, min_columns, preferred, windows);
+  bool table_at_hi = search.feasible(hi);
+  if (!table_at_hi) {
+    if (!search.feasible(unbounded)) return plan;  // no time is enough: capacities, windows
+    while (!search.feasible(hi)) hi *= 2.0;
+    table_at_hi = true;
   }
-  search.feasible(hi);  // the table must describe hi, not the last (infeasible) midpoint
+  double lo = lower_bound_step_time(devices, columns.work(0, columns.columns()), hi);
+  if (!(lo < hi)) lo = 0.0;
+  for (int iteration = 0; iteration < 100 && hi - lo > 1e-6 * hi; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    table_at_hi = search.feasible(mid);
+    (table_at_hi ? hi : lo) = mid;
+  }
+  if (!table_at_hi) search.feasible(hi);  // the table must describe hi, not an infeasible midpoint
 
   plan.feasible = true;
   plan.cuts = search.cuts_nearest(preferred);
