@@ -28,18 +28,19 @@ std::array<double, 3> momentum(const Particles& p, double m) {
 }
 
 // A 2:1 water column of width L against the wall at x = 0 in a tank 5L long, a thin slice periodic
-// in y. The fluid starts at the wall (x >= dp from the wall's particles) and reaches x = L.
+// in y (8 particles: three kernel supports at h = 1.3 dp). The fluid fills x in [dp, L].
 Scene dam_break(double L, double dp) {
     Scene s;
     s.name = "dam break";
     s.physics.dp = dp;
-    const double depth = 12 * dp;  // 3 kernel supports at hdp = 2 (periodic axes need 3 cells)
+    s.physics.hdp = 1.3;
+    const double depth = 8 * dp;
     s.domain.min = {-3 * dp, 0, -3 * dp};
     s.domain.max = {5 * L + 3 * dp, depth, 2.5 * L};
     s.domain.periodic = {false, true, false};
     BoxWalls w;
     w.min = {0, 0, 0};
-    w.max = {5 * L, depth, 3 * L};
+    w.max = {5 * L, depth, 2.5 * L};
     w.faces = x_min | x_max | z_min;
     s.walls.push_back(w);
     FluidBlock f;
@@ -47,6 +48,21 @@ Scene dam_break(double L, double dp) {
     f.max = {L, depth - 0.5 * dp, 2 * L};
     s.fluids.push_back(f);
     return s;
+}
+
+std::vector<std::array<double, 2>> koshizuka_oka() {
+    std::ifstream in(CLSPH_SHARED_DATA "/dam_break_koshizuka_oka_1996.csv");
+    REQUIRE_MESSAGE(in.good(), "cannot read " CLSPH_SHARED_DATA "/dam_break_koshizuka_oka_1996.csv");
+    std::vector<std::array<double, 2>> rows;
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+        std::istringstream ls(line);
+        double t, z;
+        char comma;
+        if (ls >> t >> comma >> z) rows.push_back({t, z});
+    }
+    return rows;
 }
 
 }  // namespace
@@ -144,5 +160,55 @@ TEST_CASE("hydrostatic tank: probe pressures match rho0 g depth") {
             CHECK(p.position[i][0] < W);
             CHECK(p.position[i][2] > 0.0);
         }
+}
+
+TEST_CASE("dam break surge front against Koshizuka & Oka (1996)") {
+    const double L = 0.146, g = 9.81;
+    Scene s = dam_break(L, L / 20);
+    Simulation sim(s, validation_options());
+    const auto data = koshizuka_oka();
+    REQUIRE(data.size() >= 5);
+    const double t_scale = std::sqrt(2 * g / L);
+    double sum2 = 0;
+    std::size_t n = 0;
+    for (const auto& row : data) {
+        const double T = row[0], Z = row[1];
+        if (T > 3.0 + 1e-9) break;
+        sim.run_until(T / t_scale);
+        const auto p = sim.particles();
+        double front = 0;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            if (p.type[i] == ParticleType::fluid) front = std::max(front, p.position[i][0]);
+        const double z = front / L;
+        MESSAGE("T = " << T << ": Z = " << z << " (experiment " << Z << ")");
+        sum2 += (z - Z) * (z - Z) / (Z * Z);
+        ++n;
+    }
+    const double rms = std::sqrt(sum2 / double(n));
+    MESSAGE("dam break: RMS relative error of the surge front " << rms * 100 << " % over " << n << " points, "
+                                                                 << sim.info().step << " steps, "
+                                                                 << sim.info().particles << " particles, "
+                                                                 << sim.info().wall_seconds << " s");
+    CHECK(rms <= 0.10);
+}
+
+TEST_CASE("a blow-up stops with a typed error naming step, time and particle") {
+    Scene s = dam_break(0.146, 0.146 / 10);
+    s.run.fixed_dt = 2e-3;  // about 15 times the CFL step
+    Simulation sim(s, validation_options());
+    try {
+        for (int i = 0; i < 200; ++i) sim.step();
+        FAIL("no error after 200 oversized steps");
+    } catch (const SimulationError& e) {
+        const std::string what = e.what();
+        MESSAGE(what);
+        CHECK(what.find("step ") != std::string::npos);
+        CHECK(what.find("particle ") != std::string::npos);
+        CHECK(what.find("t = ") != std::string::npos);
+    }
+    // The last good state is kept and is finite.
+    const Particles& good = sim.last_good();
+    REQUIRE(good.size() > 0);
+    for (std::size_t i = 0; i < good.size(); ++i) REQUIRE(std::isfinite(good.velocity[i][0]));
 }
 }
