@@ -1,10 +1,49 @@
 // The clsph command-line tool. It uses only the public API (host/include/clsph).
+//   clsph devices [--devices SPEC]
+//   clsph run SCENE [--devices SPEC] [--until T] [--steps N] [--out DIR] [--every DT] [--csv]
+//                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--coarse]
+#include "run_args.hpp"
+#include "run_command.hpp"
+
 #include <CLI/CLI.hpp>
 #include <clsph/devices.hpp>
 #include <clsph/error.hpp>
 #include <clsph/version.hpp>
 
 #include <iostream>
+
+namespace {
+
+int list_devices_command(const std::string& spec) {
+    const auto all = clsph::list_devices();
+    std::cout << clsph::format_device_table(all);
+    const std::string used = spec.empty() ? clsph::default_device_spec() : spec;
+    const auto chosen = clsph::select_devices(all, used);
+    std::cout << "selection '" << used << "' picks:";
+    for (auto i : chosen) std::cout << ' ' << i;
+    std::cout << '\n';
+    return 0;
+}
+
+void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
+    run.add_option("scene", a.scene_path, "scene file (JSON; schema in docs/scenes.md)")->required();
+    run.add_option("--devices", a.devices, "devices to use: all|gpu|cpu|default|0,2|platform:NAME (default: $CLSPH_DEVICES, else every GPU, else every CPU)");
+    run.add_option("--until", a.until, "simulated seconds to run to (default: the scene's run.end_time)");
+    run.add_option("--steps", a.steps, "stop after N steps (alone: run exactly N steps)");
+    run.add_option("--out", a.out, "output directory (default: out/<scene file name>)");
+    run.add_option("--every", a.every, "simulated seconds between frames (default: the scene's run.output_every)");
+    run.add_flag("--csv", a.csv, "also write every frame as CSV (id,type,x,y,z,vx,vy,vz,rho,p)");
+    run.add_flag("--profile", a.profile, "time every kernel and print a per-kernel table at the end");
+    // One KEY=VALUE per --set, so that `--set a=1 scene.json` still finds the scene.
+    run.add_option("--set", a.overrides, "override a scene key, e.g. --set physics.dp=0.01 (repeatable)")
+        ->allow_extra_args(false)
+        ->type_name("KEY=VALUE");
+    run.add_flag("--dry-run", a.dry_run, "print particle counts, memory per device, first time step and output size, then exit");
+    run.add_flag("--force", a.force, "overwrite the run files in an existing output directory");
+    run.add_flag("--coarse", a.coarse, "coarse-grained interaction kernel (a work-group per cell)");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"clsph: multi-device SPH fluid simulation on OpenCL"};
@@ -15,20 +54,24 @@ int main(int argc, char** argv) {
     std::string spec;
     devices->add_option("--devices", spec, "show which devices a selection spec picks (all|gpu|cpu|0,2|platform:NAME)");
 
+    auto* run = app.add_subcommand("run", "run a scene; frames, stats, probes and run.json go to the output directory");
+    clsph::app::RunArgs run_args;
+    add_run_options(*run, run_args);
+
     CLI11_PARSE(app, argc, argv);
     try {
-        if (*devices) {
-            const auto all = clsph::list_devices();
-            std::cout << clsph::format_device_table(all);
-            const std::string used = spec.empty() ? clsph::default_device_spec() : spec;
-            const auto chosen = clsph::select_devices(all, used);
-            std::cout << "selection '" << used << "' picks:";
-            for (auto i : chosen) std::cout << ' ' << i;
-            std::cout << '\n';
+        if (*devices) return list_devices_command(spec);
+        if (*run) {
+            run_args.command_line.assign(argv, argv + argc);
+            return clsph::app::run_command(run_args);
         }
     } catch (const clsph::Error& e) {
         std::cerr << "clsph: error: " << e.what() << '\n';
-        return 1;
+        return clsph::app::exit_error;
+    } catch (const std::exception& e) {
+        // Not ours (std::bad_alloc, a filesystem error): still a message, never a crash.
+        std::cerr << "clsph: error: " << e.what() << '\n';
+        return clsph::app::exit_error;
     }
     return 0;
 }
