@@ -25,13 +25,17 @@ inline bool settle_axis(float* offset, uint* cell, const float cell_size, const 
 // Each particle's offset is brought back inside its cell (the drift may have carried it out), its
 // key recomputed and written to pos.w and keys[]; vals[] = i for the sort. Outside the domain:
 // invalid_key, so the sort moves it to the end where it is removed and counted.
-__kernel void cell_keys(const uint n, const GridParams g, __global float4* pos, __global uint* keys,
-                        __global uint* vals) {
+// Particles outside [keep_first, keep_end) are being dropped (stale ghosts, particles that moved to
+// another device): they get invalid_key too, without touching their data.
+__kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end, const GridParams g,
+                        __global float4* pos, __global uint* keys, __global uint* vals) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     float4 p = pos[i];
     uint key = pos_key(p);
-    if (key != g.invalid_key) {
+    if (i < keep_first || i >= keep_end) {
+        key = g.invalid_key;
+    } else if (key != g.invalid_key) {
         uint s = key_s(g, key), a = key_a(g, key), b = key_b(g, key);
         float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
         const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
@@ -64,15 +68,26 @@ __kernel void gather_uint(const uint n, __global const uint* order, __global con
 
 inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }
 
-// flags[i] = 1 where a new key begins. summary[1] = index of the first particle outside the domain
-// (left at n when there is none; the host fills it before).
-__kernel void flag_cells(const uint n, const uint invalid_key, __global const uint* keys, __global uint* flags,
-                         __global uint* summary) {
+// flags[i] = 1 where a new key begins (all keys in [0, n) are valid cell keys).
+__kernel void flag_cells(const uint n, __global const uint* keys, __global uint* flags) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const uint f = starts_cell(keys, i);
-    flags[i] = f;
-    if (f && keys[i] == invalid_key) summary[1] = i;
+    flags[i] = starts_cell(keys, i);
+}
+
+// out[t] = first index in the sorted keys[0, n) whose key is >= thresholds[t] (lower bound): where
+// particles outside the domain begin, where a device's slab begins and ends, its edge columns.
+__kernel void locate_keys(const uint count, const uint n, __global const uint* keys,
+                          __global const uint* thresholds, __global uint* out) {
+    const uint t = get_global_id(0);
+    if (t >= count) return;
+    const uint want = thresholds[t];
+    uint lo = 0, hi = n;
+    while (lo < hi) {
+        const uint mid = (lo + hi) >> 1;
+        if (keys[mid] < want) lo = mid + 1u; else hi = mid;
+    }
+    out[t] = lo;
 }
 
 // After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and

@@ -14,7 +14,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     scatter_k_ = device.kernel("cells.cl", "scatter_cells", opts);
     cell_of_k_ = device.kernel("cells.cl", "cell_of_particle", opts);
     ranges_k_ = device.kernel("cells.cl", "neighbour_ranges", opts);
-    summary_ = device.alloc(2 * sizeof(cl_uint), "cell summary");
+    locate_k_ = device.kernel("cells.cl", "locate_keys", opts);
     reserve_cells(1024);
 }
 
@@ -31,20 +31,33 @@ void CellPipeline::reserve_cells(std::size_t k) {
 }
 
 CellPassResult CellPipeline::run(ParticleStore& ps) {
-    auto& d = device_;
-    const cl_uint n = static_cast<cl_uint>(ps.ranges.active());
-    const GridParams g = grid_.params();
+    const std::size_t n = ps.ranges.active();
     CellPassResult result;
-    if (n == 0) {
-        cells_ = 0;
-        return result;
-    }
+    const auto at = sort_particles(ps, n, 0, n, {grid_.params().invalid_key});
+    const std::size_t n_valid = at[0];
+    // Particles outside the domain sort last: dropping them is shrinking the owned range.
+    result.removed = n - n_valid;
+    ps.ranges = ParticleRanges{0, n_valid, 0};
+    result.cells = build_tables(ps, n_valid);
+    result.active = n_valid;
+    return result;
+}
+
+std::vector<std::size_t> CellPipeline::sort_particles(ParticleStore& ps, std::size_t n_all, std::size_t keep_first,
+                                                      std::size_t keep_end, const std::vector<std::uint32_t>& thresholds) {
+    auto& d = device_;
+    const cl_uint n = static_cast<cl_uint>(n_all);
+    const GridParams g = grid_.params();
+    std::vector<std::size_t> out(thresholds.size(), 0);
+    if (n == 0) return out;
 
     keys_k_.setArg(0, n);
-    keys_k_.setArg(1, g);
-    keys_k_.setArg(2, ps.pos.get());
-    keys_k_.setArg(3, ps.keys.get());
-    keys_k_.setArg(4, ps.vals.get());
+    keys_k_.setArg(1, static_cast<cl_uint>(keep_first));
+    keys_k_.setArg(2, static_cast<cl_uint>(keep_end));
+    keys_k_.setArg(3, g);
+    keys_k_.setArg(4, ps.pos.get());
+    keys_k_.setArg(5, ps.keys.get());
+    keys_k_.setArg(6, ps.vals.get());
     d.launch("cells.keys", keys_k_, n, wg_);
 
     sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
@@ -67,24 +80,40 @@ CellPassResult CellPipeline::run(ParticleStore& ps) {
     d.launch("reorder.uint", gather1_k_, n, wg_);
     d.copy(ps.scratch, ps.id, n * sizeof(cl_uint));
 
+    if (thresholds.empty()) return out;
+    const std::size_t t = thresholds.size();
+    if (thresholds_.bytes() < t * sizeof(cl_uint)) {
+        thresholds_ = d.alloc(t * sizeof(cl_uint), "key thresholds");
+        located_ = d.alloc(t * sizeof(cl_uint), "located keys");
+    }
+    d.write(thresholds_, thresholds.data(), t);
+    locate_k_.setArg(0, static_cast<cl_uint>(t));
+    locate_k_.setArg(1, n);
+    locate_k_.setArg(2, ps.keys.get());
+    locate_k_.setArg(3, thresholds_.get());
+    locate_k_.setArg(4, located_.get());
+    d.launch("cells.locate", locate_k_, t, std::min<std::size_t>(wg_, 32));
+    std::vector<cl_uint> at(t);
+    d.read(located_, at.data(), t);
+    for (std::size_t i = 0; i < t; ++i) out[i] = at[i];
+    return out;
+}
+
+std::size_t CellPipeline::build_tables(ParticleStore& ps, std::size_t n_valid) {
+    auto& d = device_;
+    const cl_uint n = static_cast<cl_uint>(n_valid);
+    cells_ = 0;
+    if (n == 0) return 0;
     // Compaction of non-empty cells: flags, scan (in place, n + 1 entries), scatter.
-    const cl_uint none_outside = n;
-    d.fill(summary_, none_outside, 2);
     flag_k_.setArg(0, n);
-    flag_k_.setArg(1, g.invalid_key);
-    flag_k_.setArg(2, ps.keys.get());
-    flag_k_.setArg(3, ps.vals.get());
-    flag_k_.setArg(4, summary_.get());
+    flag_k_.setArg(1, ps.keys.get());
+    flag_k_.setArg(2, ps.vals.get());
     d.launch("cells.flag", flag_k_, n, wg_);
     scan_.exclusive(ps.vals, ps.vals, n);
-    d.copy(ps.vals, summary_, sizeof(cl_uint), n * sizeof(cl_uint), 0);
-    cl_uint summary[2];
-    d.read(summary_, summary, 2);
-    const std::size_t k_all = summary[0];
-    const std::size_t n_valid = summary[1];
-    const std::size_t k_valid = k_all - (n_valid < n ? 1 : 0);
+    cl_uint k = 0;
+    d.read(ps.vals, &k, 1, n);
 
-    reserve_cells(k_all);
+    reserve_cells(k);
     scatter_k_.setArg(0, n);
     scatter_k_.setArg(1, ps.keys.get());
     scatter_k_.setArg(2, ps.vals.get());
@@ -96,20 +125,14 @@ CellPassResult CellPipeline::run(ParticleStore& ps) {
     cell_of_k_.setArg(2, ps.vals.get());
     d.launch("cells.cell_of", cell_of_k_, n, wg_);
 
-    ranges_k_.setArg(0, static_cast<cl_uint>(k_valid));
-    ranges_k_.setArg(1, g);
+    ranges_k_.setArg(0, k);
+    ranges_k_.setArg(1, grid_.params());
     ranges_k_.setArg(2, cell_key_.get());
     ranges_k_.setArg(3, cell_start_.get());
     ranges_k_.setArg(4, ranges_.get());
-    d.launch("cells.ranges", ranges_k_, k_valid, wg_);
-
-    // Particles outside the domain sort last: dropping them is shrinking the owned range.
-    result.removed = n - n_valid;
-    ps.ranges.owned -= std::min(ps.ranges.owned, result.removed);
-    cells_ = k_valid;
-    result.cells = k_valid;
-    result.active = ps.ranges.active();
-    return result;
+    d.launch("cells.ranges", ranges_k_, k, wg_);
+    cells_ = k;
+    return k;
 }
 
 }  // namespace clsph::device

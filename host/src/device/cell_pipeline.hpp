@@ -13,6 +13,8 @@
 #include "device/particle_store.hpp"
 #include "device/primitives.hpp"
 
+#include <vector>
+
 namespace clsph::device {
 
 struct CellPassResult {
@@ -24,7 +26,17 @@ struct CellPassResult {
 class CellPipeline {
 public:
     CellPipeline(cl_rt::Device& device, const Grid& grid);
+    // One device on its own: sort, drop particles outside the domain, build the tables.
     CellPassResult run(ParticleStore& store);
+
+    // The two halves, for several devices (host/src/multi/):
+    // keys for particles [0, n) — those outside [keep_first, keep_end) get the invalid key, so the
+    // sort drops them — then sort and reorder every array. Returns, for each threshold key, the
+    // first sorted position whose key is >= it (one blocking read).
+    std::vector<std::size_t> sort_particles(ParticleStore& store, std::size_t n, std::size_t keep_first,
+                                            std::size_t keep_end, const std::vector<std::uint32_t>& thresholds);
+    // Cell tables over the sorted, valid particles [0, n); returns the number of non-empty cells.
+    std::size_t build_tables(ParticleStore& store, std::size_t n);
 
     std::size_t cells() const { return cells_; }
     const cl_rt::Buffer& cell_key() const { return cell_key_; }
@@ -40,8 +52,8 @@ private:
     RadixSort sort_;
     Scan scan_;
     std::size_t wg_;
-    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_;
-    cl_rt::Buffer cell_key_, cell_start_, ranges_, summary_;
+    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
+    cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
 };
 
