@@ -113,6 +113,7 @@ TEST_CASE("hydrostatic tank: probe pressures match rho0 g depth") {
     const double dp = 0.025, H = 0.3, W = 0.3, D = 8 * dp;
     s.physics.dp = dp;
     s.physics.hdp = 1.3;
+    s.physics.alpha = 0.1;  // a settling tank: more damping than a flow, so it settles within CI's budget
     s.domain.min = {-3 * dp, 0, -3 * dp};
     s.domain.max = {W + 3 * dp, D, 0.45};
     s.domain.periodic = {false, true, false};
@@ -137,18 +138,19 @@ TEST_CASE("hydrostatic tank: probe pressures match rho0 g depth") {
     hp.point = {W / 2, D / 2, 0};
     s.probes.push_back(hp);
     Simulation sim(s, validation_options());
-    double ke_early = 0;
-    sim.run_until(0.1, [&](const StepInfo& i) { ke_early = std::max(ke_early, i.kinetic_energy); });
-    sim.run_until(std::getenv("CLSPH_QUICK") ? 0.12 : 0.6);
-    const double ke_late = sim.info().kinetic_energy;
+    double ke_peak = 0;
+    sim.run_until(std::getenv("CLSPH_QUICK") ? 0.12 : 0.6,
+                  [&](const StepInfo& i) { ke_peak = std::max(ke_peak, i.kinetic_energy); });
+    const double ke_end = sim.info().kinetic_energy;
     MESSAGE("hydrostatic: " << sim.info().particles << " particles, " << sim.info().step << " steps in "
-                            << sim.info().wall_seconds << " s; kinetic energy max(t<0.1) " << ke_early
-                            << " J, at the end " << ke_late << " J");
-    CHECK(ke_late < ke_early);
+                            << sim.info().wall_seconds << " s; kinetic energy peak " << ke_peak << " J, at the end "
+                            << ke_end << " J");
+    CHECK(ke_end < 0.75 * ke_peak);  // the start-up transient decays
     const auto probes = sim.sample_probes();
     const double height = probes[3].value;
-    MESSAGE("water height " << height << " m (initial fluid top " << H << ")");
-    CHECK(height == doctest::Approx(H).epsilon(0.05));
+    // The fluid fraction falls through 1/2 half a spacing above the top particles' centres.
+    MESSAGE("water height " << height << " m (top particles at " << H << ")");
+    CHECK(height == doctest::Approx(H + 0.5 * dp).epsilon(0.02));
     for (int i = 0; i < 3; ++i) {
         // depth measured from the surface the height probe finds.
         const double depth = height - s.probes[i].point[2];
