@@ -1,0 +1,68 @@
+// Frames written in the background: the run loop downloads particles (a device read) and hands the
+// host copy over; a writer thread encodes VTU (and CSV) and updates the .pvd while the devices go
+// on stepping. At most `max_in_flight` frames wait, which bounds memory when the disk is slower
+// than the simulation (the run loop then waits in submit()).
+#pragma once
+#include <clsph/io.hpp>
+#include <clsph/particles.hpp>
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace clsph::app {
+
+class FrameWriter {
+public:
+    // Frames go to `dir`/frame_NNNNN.vtu (and .csv); the collection to `dir`/`collection_name`.
+    FrameWriter(std::string dir, const std::string& collection_name, bool csv, std::size_t max_in_flight = 2);
+    ~FrameWriter();  // stops the thread; frames still queued are written first
+    FrameWriter(const FrameWriter&) = delete;
+    FrameWriter& operator=(const FrameWriter&) = delete;
+
+    // Queues frame number frames_submitted() at simulated `time`. Rethrows a writer error.
+    void submit(double time, Particles particles);
+    // Rethrows the first error the writer thread met (a full disk, say), if any.
+    void check();
+    // Writes what is queued, stops the thread and rethrows a writer error.
+    void finish();
+
+    std::size_t frames_submitted() const { return submitted_; }
+    std::size_t frames_written() const;
+    double last_time() const { return last_time_; }  // of the last frame submitted
+    const std::string& collection_path() const { return pvd_.path(); }
+    // What a frame of n particles costs on disk (bytes), for --dry-run.
+    static std::size_t vtu_bytes(std::size_t n);
+
+private:
+    struct Frame {
+        std::size_t index;
+        double time;
+        Particles particles;
+    };
+    void loop();
+    void write(const Frame& frame);
+    void stop();
+
+    std::string dir_;
+    bool csv_;
+    std::size_t max_in_flight_;
+    PvdWriter pvd_;  // used by the writer thread only, once started
+    std::size_t submitted_ = 0;
+    double last_time_ = -1.0;
+
+    mutable std::mutex mutex_;
+    std::condition_variable changed_;
+    std::deque<Frame> queue_;
+    std::size_t written_ = 0;
+    bool busy_ = false;       // the thread is writing a frame it has taken off the queue
+    bool closing_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;      // last: starts after everything above exists
+};
+
+}  // namespace clsph::app

@@ -1,0 +1,60 @@
+#include "output_dir.hpp"
+
+#include <clsph/error.hpp>
+
+#include <filesystem>
+#include <system_error>
+#include <vector>
+
+namespace clsph::app {
+namespace fs = std::filesystem;
+namespace {
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// The names a run (and scripts/run.sh's plot) writes; --force removes these and nothing else, so
+// a mistyped --out pointing at a user's directory costs them no files of their own.
+bool written_by_a_run(const std::string& name) {
+    if (ends_with(name, ".tmp")) return true;  // a writer cut short mid-rename
+    if (starts_with(name, "frame_") && (ends_with(name, ".vtu") || ends_with(name, ".csv"))) return true;
+    if (starts_with(name, "probe_") && ends_with(name, ".csv")) return true;
+    if (starts_with(name, "surge_front.")) return true;
+    return ends_with(name, ".pvd") || name == "stats.csv" || name == "run.json";
+}
+
+[[noreturn]] void fail(const std::string& what, const std::error_code& ec) {
+    throw Error(what + (ec ? ": " + ec.message() : std::string()));
+}
+
+}  // namespace
+
+void check_output_dir(const std::string& dir, bool force) {
+    std::error_code ec;
+    const auto status = fs::status(dir, ec);
+    if (!fs::exists(status)) return;
+    if (!fs::is_directory(status)) fail("output path '" + dir + "' exists and is not a directory", {});
+    if (force) return;
+    if (!fs::is_empty(dir, ec))
+        fail("output directory '" + dir + "' already exists and is not empty; pass --force to overwrite its run files, "
+             "or choose another with --out", {});
+}
+
+void prepare_output_dir(const std::string& dir, bool force) {
+    check_output_dir(dir, force);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) fail("cannot create output directory '" + dir + "'", ec);
+    if (!force) return;
+    // Collected first: removing entries while iterating a directory is unspecified.
+    std::vector<fs::path> stale;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+        if (entry.is_regular_file() && written_by_a_run(entry.path().filename().string())) stale.push_back(entry.path());
+    if (ec) fail("cannot list output directory '" + dir + "'", ec);
+    for (const auto& path : stale)
+        if (!fs::remove(path, ec) && ec) fail("cannot remove '" + path.string() + "'", ec);
+}
+
+}  // namespace clsph::app

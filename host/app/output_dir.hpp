@@ -1,0 +1,16 @@
+// The run's output directory: refused when it already holds files (unless --force), created only
+// once the scene has loaded and the devices are set up, so a bad input never leaves a directory.
+#pragma once
+#include <string>
+
+namespace clsph::app {
+
+// Throws clsph::Error when `dir` exists and is not an empty directory and `force` is off, or when
+// it exists and is not a directory at all. Touches nothing.
+void check_output_dir(const std::string& dir, bool force);
+
+// Creates `dir` (and its parents); with `force`, first removes the files a run writes (frames,
+// .pvd, stats, probes, run.json, the surge plot, left-over .tmp files) and leaves anything else.
+void prepare_output_dir(const std::string& dir, bool force);
+
+}  // namespace clsph::app

@@ -1,0 +1,55 @@
+#include "report.hpp"
+
+#include "progress.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace clsph::app {
+
+void print_summary(std::ostream& os, const RunTotals& t) {
+    char text[512];
+    const double steps = static_cast<double>(t.steps);
+    const double ms_per_step = t.steps ? 1e3 * t.loop_seconds / steps : 0.0;
+    const double rate = t.loop_seconds > 0 ? t.particle_steps / t.loop_seconds : 0.0;
+    std::snprintf(text, sizeof text,
+                  "clsph: %s at t = %.6g s: %llu steps in %s (set-up %s), %.3f ms/step, %.3g particle-steps/s\n",
+                  t.outcome.c_str(), t.last.time, static_cast<unsigned long long>(t.steps),
+                  format_duration(t.loop_seconds).c_str(), format_duration(t.setup_seconds).c_str(), ms_per_step, rate);
+    os << text;
+    os << "  particles: " << t.last.particles << " (" << t.fluid << " fluid), removed " << t.last.removed << '\n';
+    os << "  devices:";
+    for (std::size_t i = 0; i < t.devices.size(); ++i) os << (i ? ", " : " ") << t.devices[i];
+    os << '\n';
+    os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
+       << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";
+}
+
+void print_profile(std::ostream& os, std::vector<KernelTime> kernels, std::uint64_t steps) {
+    std::sort(kernels.begin(), kernels.end(), [](const KernelTime& a, const KernelTime& b) { return a.seconds > b.seconds; });
+    double total = 0.0;
+    std::size_t calls = 0, width = 6;
+    for (const auto& k : kernels) {
+        total += k.seconds;
+        calls += k.calls;
+        width = std::max(width, k.name.size());
+    }
+    const int w = static_cast<int>(width);
+    char text[512];
+    std::snprintf(text, sizeof text, "%-*s %10s %12s %12s %7s\n", w, "kernel", "calls", "ms", "ms/call", "%");
+    os << "\nper-kernel device time (" << steps << " steps):\n" << text;
+    for (const auto& k : kernels) {
+        const double ms = 1e3 * k.seconds;
+        std::snprintf(text, sizeof text, "%-*s %10zu %12.2f %12.4f %7.1f\n", w, k.name.c_str(), k.calls, ms,
+                      k.calls ? ms / static_cast<double>(k.calls) : 0.0, total > 0 ? 100.0 * k.seconds / total : 0.0);
+        os << text;
+    }
+    std::snprintf(text, sizeof text, "%-*s %10zu %12.2f %12s %7.1f\n", w, "total", calls, 1e3 * total, "", 100.0);
+    os << text;
+    if (steps) {
+        std::snprintf(text, sizeof text, "%.3f ms of kernel time per step\n", 1e3 * total / static_cast<double>(steps));
+        os << text;
+    }
+}
+
+}  // namespace clsph::app

@@ -1,0 +1,31 @@
+// What `clsph run` prints when a run ends: the summary line and the --profile kernel table.
+#pragma once
+#include <clsph/simulation.hpp>
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace clsph::app {
+
+struct RunTotals {
+    std::string outcome;            // "completed", "interrupted", "failed"
+    StepInfo last;                  // the last step taken
+    std::uint64_t steps = 0;        // steps taken by this run
+    double setup_seconds = 0.0;     // scene build, device set-up, kernel builds
+    double loop_seconds = 0.0;      // stepping, probes and frame downloads
+    double particle_steps = 0.0;    // sum over steps of the particle count
+    std::size_t fluid = 0;
+    std::size_t frames = 0;
+    std::string out_dir;
+    std::string collection;         // the .pvd
+    std::vector<std::string> devices;
+};
+
+void print_summary(std::ostream& os, const RunTotals& t);
+
+// Per-kernel calls, total ms, ms per call and share of the kernel total, largest first.
+void print_profile(std::ostream& os, std::vector<KernelTime> kernels, std::uint64_t steps);
+
+}  // namespace clsph::app

@@ -1,0 +1,34 @@
+// What `clsph run` was asked to do, as parsed from the command line (main.cpp).
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace clsph::app {
+
+struct RunArgs {
+    std::string scene_path;
+    std::string devices;                      // empty: $CLSPH_DEVICES or the default selection
+    std::optional<double> until;              // simulated seconds; default: the scene's run.end_time
+    std::optional<std::uint64_t> steps;       // stop after this many steps
+    std::optional<std::string> out;           // default: out/<scene file stem>
+    std::optional<double> every;              // seconds between frames; default: run.output_every
+    std::vector<std::string> overrides;       // --set KEY=VALUE, in order
+    bool csv = false;
+    bool profile = false;
+    bool dry_run = false;
+    bool force = false;
+    bool coarse = false;
+    std::vector<std::string> command_line;    // argv, for run.json
+};
+
+// Exit codes of `clsph run` (also in the README).
+enum ExitCode : int {
+    exit_ok = 0,
+    exit_error = 1,             // bad scene, device, output directory, I/O
+    exit_simulation_failed = 2, // the physics blew up; the last good state was written
+    exit_interrupted = 130,     // Ctrl-C: stopped cleanly after a final frame (128 + SIGINT)
+};
+
+}  // namespace clsph::app

@@ -1,0 +1,168 @@
+#include "run_command.hpp"
+
+#include "dry_run.hpp"
+#include "frame_writer.hpp"
+#include "interrupt.hpp"
+#include "make_simulation.hpp"
+#include "output_dir.hpp"
+#include "progress.hpp"
+#include "report.hpp"
+#include "run_plan.hpp"
+#include "run_record.hpp"
+
+#include <clsph/error.hpp>
+#include <clsph/io.hpp>
+#include <clsph/scene_io.hpp>
+#include <clsph/simulation.hpp>
+
+#include <unistd.h>  // isatty
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+
+namespace clsph::app {
+namespace {
+
+using clock = std::chrono::steady_clock;
+
+double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
+
+// Thrown from the step callback to leave Simulation::run_until between two steps (the callback
+// runs after a step has completed, so the state is whole).
+struct StopRun {
+    const char* outcome;
+};
+
+// The stepping loop and everything it writes; one per run.
+class Runner {
+public:
+    Runner(Simulation& sim, const RunArgs& args, const RunPlan& plan)
+        : sim_(sim),
+          args_(args),
+          plan_(plan),
+          record_(plan.out_dir,
+                  RunIdentity{args.scene_path, args.overrides, args.command_line, sim.device_names(), sim.scene().to_json()},
+                  sim.scene().probes),
+          frames_(plan.out_dir, plan.collection_name, args.csv),
+          progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {}
+
+    int run(double setup_seconds) {
+        totals_.setup_seconds = setup_seconds;
+        const auto start = clock::now();
+        const std::uint64_t first_step = sim_.info().step;
+        record_.step(sim_.info());
+        sample_probes();
+        frames_.submit(sim_.time(), sim_.particles());
+        std::uint64_t next_frame = 1;
+        const double eps = 1e-9 * plan_.every;
+
+        auto on_step = [&](const StepInfo& s) {
+            record_.step(s);
+            totals_.particle_steps += static_cast<double>(s.particles);
+            const int every = sim_.scene().run.probe_every;
+            if (every > 0 && s.step % static_cast<std::uint64_t>(every) == 0) sample_probes();
+            progress_.update(s);
+            frames_.check();  // a writer error (disk full) ends the run now, not at the end
+            if (interrupt_requested()) throw StopRun{"interrupted"};
+            if (plan_.steps && s.step - first_step >= *plan_.steps) throw StopRun{"completed"};
+        };
+
+        totals_.outcome = "completed";
+        int code = exit_ok;
+        std::string message;
+        try {
+            while (sim_.time() < plan_.until - eps) {
+                const double frame_time = static_cast<double>(next_frame) * plan_.every;
+                sim_.run_until(std::min(frame_time, plan_.until), on_step);
+                if (sim_.time() >= frame_time - eps) {
+                    frames_.submit(sim_.time(), sim_.particles());
+                    ++next_frame;
+                }
+            }
+        } catch (const StopRun& stop) {
+            totals_.outcome = stop.outcome;
+            if (totals_.outcome == "interrupted") code = exit_interrupted;
+        } catch (const SimulationError& e) {
+            progress_.clear();
+            totals_.outcome = "failed";
+            message = e.what();
+            code = exit_simulation_failed;
+            write_last_good();
+        } catch (const Error& e) {
+            // A writer or I/O error: say so in run.json, then report it as any other error.
+            progress_.clear();
+            try {
+                record_.finish("failed", sim_.info(), e.what());
+            } catch (const Error&) {
+            }
+            throw;
+        }
+        progress_.clear();
+        // A final frame where the run stopped off the frame grid (Ctrl-C, --steps, --until).
+        if (code != exit_simulation_failed && frames_.last_time() < sim_.time() - eps)
+            frames_.submit(sim_.time(), sim_.particles());
+        frames_.finish();
+        totals_.loop_seconds = seconds_since(start);
+        record_.finish(totals_.outcome, sim_.info(), message);
+
+        totals_.last = sim_.info();
+        totals_.steps = sim_.info().step - first_step;
+        totals_.fluid = sim_.info().fluid;
+        totals_.frames = frames_.frames_written();
+        totals_.out_dir = plan_.out_dir;
+        totals_.collection = frames_.collection_path();
+        totals_.devices = sim_.device_names();
+        if (code == exit_simulation_failed) std::cerr << "clsph: error: " << message << '\n';
+        print_summary(std::cout, totals_);
+        if (args_.profile) print_profile(std::cout, sim_.profile(), totals_.steps);
+        return code;
+    }
+
+private:
+    void sample_probes() {
+        if (!sim_.scene().probes.empty()) record_.probes(sim_.sample_probes());
+    }
+
+    // The API does not say at what time last_good() was taken (with this loop it is the last frame
+    // downloaded), so it goes beside the series rather than into the .pvd at a guessed time.
+    void write_last_good() {
+        const std::string base = plan_.out_dir + "/last_good";
+        write_vtu(base + ".vtu", sim_.last_good());
+        if (args_.csv) write_csv(base + ".csv", sim_.last_good());
+        std::cerr << "clsph: the last good state is in " << base << ".vtu\n";
+    }
+
+    Simulation& sim_;
+    const RunArgs& args_;
+    const RunPlan& plan_;
+    RunRecord record_;
+    FrameWriter frames_;
+    Progress progress_;
+    RunTotals totals_;
+};
+
+}  // namespace
+
+int run_command(const RunArgs& args) {
+    const auto start = clock::now();
+    const Scene scene = load_scene(args.scene_path, args.overrides);
+    const RunPlan plan = make_plan(args, scene);
+    if (args.dry_run) return dry_run(scene, args, plan);
+    check_output_dir(plan.out_dir, args.force);  // refuse early, before minutes of kernel builds
+
+    const auto simulation = make_simulation(scene, args);
+    Simulation& sim = *simulation;
+    std::cout << "clsph: " << args.scene_path << " on";
+    for (const auto& d : sim.device_names()) std::cout << ' ' << d;
+    std::cout << ": " << sim.info().particles << " particles, to t = " << plan.until << " s, output in " << plan.out_dir
+              << std::endl;
+
+    // Only now, with the scene loaded and the devices ready, does the directory appear.
+    prepare_output_dir(plan.out_dir, args.force);
+    install_interrupt_handler();
+    Runner runner(sim, args, plan);
+    return runner.run(seconds_since(start));
+}
+
+}  // namespace clsph::app

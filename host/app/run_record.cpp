@@ -1,0 +1,158 @@
+#include "run_record.hpp"
+
+#include <clsph/error.hpp>
+#include <clsph/version.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <sstream>
+#include <utility>
+
+namespace clsph::app {
+namespace {
+
+std::string utc_now() {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return text;
+}
+
+std::string json_string(const std::string& s) {
+    std::string out = "\"";
+    for (const char c : s) {
+        switch (c) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\n': out += "\\n"; break;
+            case '\t': out += "\\t"; break;
+            case '\r': out += "\\r"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    char esc[8];
+                    std::snprintf(esc, sizeof esc, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+                    out += esc;
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out + "\"";
+}
+
+std::string json_strings(const std::vector<std::string>& items) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + json_string(items[i]);
+    return out + "]";
+}
+
+// JSON has no NaN or infinity: those become null.
+std::string json_number(double v) {
+    if (!std::isfinite(v)) return "null";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return text;
+}
+
+std::ofstream open_csv(const std::string& path, const char* header) {
+    std::ofstream out(path);
+    if (!out) throw Error("cannot create " + path);
+    out << header << '\n';
+    return out;
+}
+
+}  // namespace
+
+RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes)
+    : dir_(std::move(dir)), identity_(std::move(identity)), started_(utc_now()), last_flush_(std::chrono::steady_clock::now()) {
+    stats_ = open_csv(dir_ + "/stats.csv", "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed");
+    for (const auto& p : probes) {
+        const std::string path = dir_ + "/probe_" + safe_name(p.name) + ".csv";
+        probe_files_.emplace_back(p.name, std::make_unique<std::ofstream>(open_csv(path, "time,value")));
+    }
+    write_json("running", nullptr, {});
+}
+
+void RunRecord::step(const StepInfo& s) {
+    char row[256];
+    std::snprintf(row, sizeof row, "%llu,%.9g,%.6g,%zu,%zu,%zu,%.6g,%.6g\n", static_cast<unsigned long long>(s.step),
+                  s.time, s.dt, s.particles, s.fluid, s.removed, s.kinetic_energy, s.max_speed);
+    stats_ << row;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_flush_ > std::chrono::seconds(1)) {
+        last_flush_ = now;
+        stats_.flush();
+        for (auto& entry : probe_files_) entry.second->flush();
+    }
+    if (!stats_) throw Error("cannot write " + dir_ + "/stats.csv");
+}
+
+void RunRecord::probes(const std::vector<ProbeSample>& samples) {
+    for (const auto& s : samples) {
+        for (auto& [name, file] : probe_files_) {
+            if (name != s.name) continue;
+            char row[64];
+            std::snprintf(row, sizeof row, "%.9g,%.9g\n", s.time, s.value);  // NaN prints as nan
+            *file << row;
+            if (!*file) throw Error("cannot write " + dir_ + "/probe_" + safe_name(name) + ".csv");
+        }
+    }
+}
+
+void RunRecord::finish(const std::string& status, const StepInfo& last, const std::string& message) {
+    stats_.flush();
+    for (auto& entry : probe_files_) entry.second->flush();
+    write_json(status, &last, message);
+}
+
+std::string RunRecord::safe_name(const std::string& name) {
+    std::string out;
+    for (const char c : name) {
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                        c == '_' || c == '.';
+        out += ok ? c : '_';
+    }
+    return out.empty() ? "unnamed" : out;
+}
+
+void RunRecord::write_json(const std::string& status, const StepInfo* last, const std::string& message) const {
+    std::ostringstream j;
+    j << "{\n"
+      << "  \"clsph_version\": " << json_string(version()) << ",\n"
+      << "  \"command_line\": " << json_strings(identity_.command_line) << ",\n"
+      << "  \"scene_file\": " << json_string(identity_.scene_file) << ",\n"
+      << "  \"overrides\": " << json_strings(identity_.overrides) << ",\n"
+      << "  \"devices\": " << json_strings(identity_.devices) << ",\n"
+      << "  \"start_time\": " << json_string(started_) << ",\n"
+      << "  \"status\": " << json_string(status) << ",\n";
+    if (!message.empty()) j << "  \"message\": " << json_string(message) << ",\n";
+    if (last) {
+        j << "  \"finish_time\": " << json_string(utc_now()) << ",\n"
+          << "  \"steps\": " << last->step << ",\n"
+          << "  \"simulated_time\": " << json_number(last->time) << ",\n"
+          << "  \"wall_seconds\": " << json_number(last->wall_seconds) << ",\n"
+          << "  \"particles\": " << last->particles << ",\n"
+          << "  \"removed\": " << last->removed << ",\n";
+    }
+    // The scene text is already JSON; indent it one level so the file reads as a whole.
+    std::string scene = identity_.scene_json;
+    while (!scene.empty() && (scene.back() == '\n' || scene.back() == ' ')) scene.pop_back();
+    std::string indented;
+    for (const char c : scene) indented += c == '\n' ? std::string("\n  ") : std::string(1, c);
+    j << "  \"scene\": " << indented << "\n}\n";
+
+    // Whole or not at all: a reader never sees half a run.json.
+    const std::string path = dir_ + "/run.json", tmp = path + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << j.str();
+        out.close();
+        if (!out) throw Error("cannot write " + tmp);
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw Error("cannot rename " + tmp + " to " + path);
+}
+
+}  // namespace clsph::app
