@@ -39,7 +39,7 @@ std::vector<std::size_t> Balancer::initial_cuts(const ColumnProfile& profile,
 
   // Before any measurement every device is assumed equally fast: equal work.
   std::vector<SlabCost> equal(models_.size());
-  for (std::size_t d = 0; d < equal.size(); ++d) equal[d] = {0.0, 1.0, capacity_[d]};
+  for (std::size_t d = 0; d < equal.size(); ++d) equal[d] = {0.0, 1.0, capacity_[d], options_.allow_idle};
   const Plan plan = place_cuts(equal, ColumnSums(profile), options_.min_columns, cuts_);
   if (plan.feasible) cuts_ = plan.cuts;
   return cuts_;
@@ -58,6 +58,7 @@ std::vector<SlabCost> Balancer::slab_costs() const {
   for (std::size_t d = 0; d < models_.size(); ++d) {
     const TimeModel& model = models_[d];
     costs[d].capacity_particles = capacity_[d];
+    costs[d].may_idle = options_.allow_idle;
     costs[d].fixed_seconds = model.ready() ? model.fixed() : fixed_sum / static_cast<double>(known);
     costs[d].seconds_per_unit =
         model.ready() ? model.per_unit() : per_unit_sum / static_cast<double>(known);

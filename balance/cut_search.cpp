@@ -66,7 +66,7 @@ class Search {
       for (std::size_t c = 0; c <= n; ++c) {
         char ok = 0;
         if (allowed(d, c)) {
-          ok = next[c];  // device d idle
+          ok = devices_[d].may_idle ? next[c] : 0;  // device d idle
           if (!ok && step_time >= devices_[d].fixed_seconds) {
             const double work_limit = work_limit_of(d, step_time);
             end = std::max(end, c);

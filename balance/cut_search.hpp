@@ -24,6 +24,7 @@ struct SlabCost {
   double fixed_seconds = 0.0;
   double seconds_per_unit = 0.0;
   std::size_t capacity_particles = 0;  // 0 = unlimited
+  bool may_idle = true;                 // false: the device always keeps at least min_columns
 
   double seconds(double work, bool empty) const {
     return empty ? 0.0 : fixed_seconds + seconds_per_unit * work;

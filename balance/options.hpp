@@ -43,6 +43,10 @@ struct Options {
   // Narrowest non-empty slab, in columns: the halo width (the neighbours read the first and last
   // columns). A device may still be left idle, with no column at all.
   std::size_t min_columns = 1;
+  // Whether the best plan may leave a device with no column at all. An idle device is not measured
+  // any more, so its model cannot notice that it would now help: engines that cannot afford that
+  // (noisy, short steps) turn this off.
+  bool allow_idle = true;
   // Cuts move only when the best plan would lower the predicted step time (the slowest device), or
   // the predicted imbalance, by at least this fraction: a move costs a migration, and jitter must
   // not make cuts wander. 1.5 % is about four standard errors of a prediction at the defaults.

@@ -7,6 +7,7 @@
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
+#include "multi/slab_driver.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -20,9 +21,7 @@ struct Simulation::Impl {
     Options options;
     std::vector<std::unique_ptr<cl_rt::Device>> devices;
     device::Grid grid;
-    std::unique_ptr<device::ParticleStore> store;
-    std::unique_ptr<device::CellPipeline> cells;
-    std::unique_ptr<device::Physics> physics;
+    std::unique_ptr<multi::SlabDriver> driver;
     StepInfo info;
     double dt_next = 0.0;
     Particles last_good;
@@ -34,11 +33,9 @@ struct Simulation::Impl {
           options(o),
           grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis, s.domain.periodic) {}
 
-    cl_rt::Device& dev() { return *devices.front(); }
-
     double next_dt(const device::KickResult& k) const {
         if (scene.run.fixed_dt > 0) return scene.run.fixed_dt;
-        const auto& sp = physics->params();
+        const auto& sp = driver->params();
         const double h = sp.h;
         const double amax = std::sqrt(k.max_accel2), vmax = std::sqrt(k.max_speed2);
         // Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)).
@@ -47,12 +44,14 @@ struct Simulation::Impl {
         return scene.physics.cfl * std::min(dt_force, dt_sound);
     }
 
-    [[noreturn]] void fail(std::int64_t index) {
-        auto& d = dev();
+    [[noreturn]] void fail(const multi::StepOutcome& k) {
+        auto& slab = driver->slabs()[k.bad_slab];
+        auto& d = *slab.device;
+        const auto index = static_cast<std::size_t>(k.kick.bad_index);
         cl_uint id = 0;
         float vr[4] = {0, 0, 0, 0};
-        d.read(store->id, &id, 1, static_cast<std::size_t>(index));
-        d.read(store->velrho, vr, 4, 4 * static_cast<std::size_t>(index));
+        d.read(slab.store->id, &id, 1, index);
+        d.read(slab.store->velrho, vr, 4, 4 * index);
         std::ostringstream o;
         const bool fluid = (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
         o << "step " << info.step + 1 << ", t = " << info.time + dt_next << " s: particle " << (id & CLSPH_ID_MASK)
@@ -60,8 +59,9 @@ struct Simulation::Impl {
         if (!std::isfinite(vr[0]) || !std::isfinite(vr[1]) || !std::isfinite(vr[2]) || !std::isfinite(vr[3]))
             o << "has a non-finite velocity or density";
         else
-            o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << physics->params().rho_min << ", "
-              << physics->params().rho_max << "]";
+            o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << driver->params().rho_min << ", "
+              << driver->params().rho_max << "]";
+        if (driver->slabs().size() > 1) o << " on device " << d.label();
         o << " (time step " << dt_next << " s). The run stopped; the last good state is at t = "
           << last_good_time << " s.";
         throw SimulationError(o.str());
@@ -75,22 +75,27 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     const Particles p = scene.build_particles();
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices,
                                     cl_rt::OpenOptions{options.profile});
-    auto& d = m.dev();
-    d.profiler().enable(options.profile);
-    m.store = std::make_unique<device::ParticleStore>(d, m.grid, p.size(), options.capacity_headroom);
-    m.store->upload(p);
-    m.cells = std::make_unique<device::CellPipeline>(d, m.grid);
-    m.physics = std::make_unique<device::Physics>(d, m.grid, m.scene, options.coarse);
-    const auto pass = m.cells->run(*m.store);
-    m.info.removed = pass.removed;
-    m.physics->forces(*m.store, *m.cells, m.store->scratch);
-    const auto k = m.physics->kick(*m.store, 0.0);  // dt = 0: the checks, reductions and a_0 into accel
-    if (k.bad_index >= 0) m.fail(k.bad_index);
-    m.info.particles = m.store->ranges.owned;
-    m.info.fluid = k.fluid;
-    m.info.kinetic_energy = k.kinetic_energy;
-    m.info.max_speed = std::sqrt(k.max_speed2);
-    m.dt_next = m.next_dt(k);
+    std::vector<cl_rt::Device*> devs;
+    for (auto& d : m.devices) {
+        d->profiler().enable(options.profile);
+        devs.push_back(d.get());
+    }
+    multi::DriverOptions dopt;
+    dopt.coarse = options.coarse;
+    dopt.balance = options.balance;
+    dopt.balance_log = options.balance_log;
+    dopt.slowdown = options.slowdown;
+    dopt.headroom = options.capacity_headroom;
+    dopt.cut_schedule = options.cut_schedule;
+    m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
+    const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
+    if (k.kick.bad_index >= 0) m.fail(k);
+    m.info.removed = k.removed;
+    m.info.particles = m.driver->owned();
+    m.info.fluid = k.kick.fluid;
+    m.info.kinetic_energy = k.kick.kinetic_energy;
+    m.info.max_speed = std::sqrt(k.kick.max_speed2);
+    m.dt_next = m.next_dt(k.kick);
     m.last_good = p;
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
 }
@@ -100,21 +105,18 @@ Simulation::~Simulation() = default;
 const StepInfo& Simulation::step() {
     auto& m = *impl_;
     const double dt = m.dt_next;
-    m.physics->kick_drift(*m.store, dt);
-    const auto pass = m.cells->run(*m.store);
-    m.physics->forces(*m.store, *m.cells, m.store->scratch);
-    const auto k = m.physics->kick(*m.store, dt);
-    if (k.bad_index >= 0) m.fail(k.bad_index);
+    const auto k = m.driver->step(dt);
+    if (k.kick.bad_index >= 0) m.fail(k);
     m.info.step += 1;
     m.info.time += dt;
     m.info.dt = dt;
-    m.info.removed += pass.removed;
-    m.info.particles = m.store->ranges.owned;
-    m.info.fluid = k.fluid;
-    m.info.kinetic_energy = k.kinetic_energy;
-    m.info.max_speed = std::sqrt(k.max_speed2);
+    m.info.removed += k.removed;
+    m.info.particles = m.driver->owned();
+    m.info.fluid = k.kick.fluid;
+    m.info.kinetic_energy = k.kick.kinetic_energy;
+    m.info.max_speed = std::sqrt(k.kick.max_speed2);
     m.info.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
-    m.dt_next = m.next_dt(k);
+    m.dt_next = m.next_dt(k.kick);
     return m.info;
 }
 
@@ -129,8 +131,8 @@ void Simulation::run_until(double t, const std::function<void(const StepInfo&)>&
 
 Particles Simulation::particles() {
     auto& m = *impl_;
-    Particles p = m.store->download();
-    const auto& sp = m.physics->params();
+    Particles p = m.driver->download();
+    const auto& sp = m.driver->params();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const double x = p.density[i] / sp.rho0;
         p.pressure[i] = static_cast<float>(sp.eos_b * (std::pow(x, 7.0) - 1.0));
@@ -151,6 +153,13 @@ std::vector<std::string> Simulation::device_names() const {
     return names;
 }
 
+std::vector<DeviceShare> Simulation::shares() const {
+    std::vector<DeviceShare> out;
+    for (auto& s : impl_->driver->slabs())
+        out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds});
+    return out;
+}
+
 std::vector<ProbeSample> Simulation::sample_probes() {
     auto& m = *impl_;
     std::vector<std::array<double, 3>> points;
@@ -166,7 +175,7 @@ std::vector<ProbeSample> Simulation::sample_probes() {
         }
     }
     first.push_back(points.size());
-    const auto sums = m.physics->probe(*m.store, *m.cells, points);
+    const auto sums = m.driver->probe(points);
     std::vector<ProbeSample> out;
     for (std::size_t i = 0; i < m.scene.probes.size(); ++i) {
         const auto& pr = m.scene.probes[i];
@@ -200,12 +209,12 @@ std::vector<KernelTime> Simulation::profile() {
 
 std::vector<MemoryReport> Simulation::memory() const {
     std::vector<MemoryReport> out;
-    for (const auto& d : impl_->devices) {
+    for (auto& s : impl_->driver->slabs()) {
         MemoryReport r;
-        r.device = d->label();
-        r.particles = impl_->store->ranges.owned;
-        r.peak_bytes = d->memory().counters().peak;
-        r.capacity_particles = impl_->store->capacity();
+        r.device = s.device->label();
+        r.particles = s.store->ranges.owned;
+        r.peak_bytes = s.device->memory().counters().peak;
+        r.capacity_particles = s.store->capacity();
         out.push_back(r);
     }
     return out;

@@ -16,7 +16,19 @@ struct Options {
     std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
     bool profile = false;      // per-kernel times (profile())
     bool coarse = false;       // coarse-grained (work-group per cell) interaction kernel
-    double capacity_headroom = 0.25;  // spare particle capacity per device
+    double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
+    std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
+    std::string balance_log;          // several devices: per-step balancer CSV, empty: none
+    std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
+    // Tests: cuts to force before each step (devices + 1 column indices), instead of the balancer's.
+    std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
+};
+
+struct DeviceShare {
+    std::string device;
+    std::size_t particles = 0;  // owned
+    std::size_t first_column = 0, end_column = 0;
+    double force_seconds = 0;   // the last step's force pass (several devices)
 };
 
 struct StepInfo {
@@ -71,6 +83,7 @@ public:
     double time() const;
     const Scene& scene() const;
     std::vector<std::string> device_names() const;
+    std::vector<DeviceShare> shares() const;  // each device's part of the domain now
 
     // Probe values now (computed on the device).
     std::vector<ProbeSample> sample_probes();

@@ -15,6 +15,8 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     cell_of_k_ = device.kernel("cells.cl", "cell_of_particle", opts);
     ranges_k_ = device.kernel("cells.cl", "neighbour_ranges", opts);
     locate_k_ = device.kernel("cells.cl", "locate_keys", opts);
+    invalid_k_ = device.kernel("cells.cl", "mark_invalid", opts);
+    hist_k_ = device.kernel("cells.cl", "column_histogram", opts);
     reserve_cells(1024);
 }
 
@@ -133,6 +135,33 @@ std::size_t CellPipeline::build_tables(ParticleStore& ps, std::size_t n_valid) {
     d.launch("cells.ranges", ranges_k_, k, wg_);
     cells_ = k;
     return k;
+}
+
+void CellPipeline::mark_invalid(ParticleStore& ps, std::size_t first, std::size_t end) {
+    if (end <= first) return;
+    invalid_k_.setArg(0, static_cast<cl_uint>(first));
+    invalid_k_.setArg(1, static_cast<cl_uint>(end));
+    invalid_k_.setArg(2, grid_.params().invalid_key);
+    invalid_k_.setArg(3, ps.pos.get());
+    device_.launch("cells.mark_invalid", invalid_k_, end - first, wg_);
+}
+
+std::vector<std::uint32_t> CellPipeline::column_histogram(ParticleStore& ps, std::size_t first, std::size_t end) {
+    const std::size_t bins = 2 * static_cast<std::size_t>(grid_.params().n_s);
+    if (hist_.bytes() < bins * sizeof(cl_uint)) hist_ = device_.alloc(bins * sizeof(cl_uint), "column histogram");
+    device_.fill(hist_, cl_uint(0), bins);
+    if (end > first) {
+        hist_k_.setArg(0, static_cast<cl_uint>(first));
+        hist_k_.setArg(1, static_cast<cl_uint>(end));
+        hist_k_.setArg(2, grid_.params());
+        hist_k_.setArg(3, ps.keys.get());
+        hist_k_.setArg(4, ps.id.get());
+        hist_k_.setArg(5, hist_.get());
+        device_.launch("cells.column_histogram", hist_k_, end - first, wg_);
+    }
+    std::vector<std::uint32_t> h(bins);
+    device_.read(hist_, h.data(), bins);
+    return h;
 }
 
 }  // namespace clsph::device

@@ -1,0 +1,87 @@
+// One simulation over several devices (DESIGN.md "Many devices"): the domain is cut into slabs of
+// cell columns along the split axis, one per device; each device holds [ghosts | owned | ghosts]
+// in sorted order. Per step: kick and drift on every device; sort; particles that left a slab go to
+// the device that owns their column now; the edge columns go to the neighbours as ghosts; sort
+// again and build the cell tables; forces; second kick. The balancer moves the cuts from each
+// device's measured force time. With one device the exchange is skipped.
+#pragma once
+#include "balance/balance_log.hpp"
+#include "balance/balancer.hpp"
+#include "cl/device.hpp"
+#include "clsph/scene.hpp"
+#include "device/cell_pipeline.hpp"
+#include "device/grid.hpp"
+#include "device/particle_store.hpp"
+#include "device/physics.hpp"
+
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace clsph::multi {
+
+struct DriverOptions {
+    bool coarse = false;
+    std::string balance = "dynamic";  // dynamic | static | off
+    std::string balance_log;          // CSV path, empty: none
+    std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
+    double headroom = 0.25;
+    std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
+};
+
+struct Slab {
+    cl_rt::Device* device = nullptr;
+    std::unique_ptr<device::ParticleStore> store;
+    std::unique_ptr<device::CellPipeline> cells;
+    std::unique_ptr<device::Physics> physics;
+    std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
+    double force_seconds = 0;                // last step's force pass time (the balancer's input)
+    bool empty() const { return first_col >= end_col; }
+};
+
+struct StepOutcome {
+    device::KickResult kick;   // over all devices (bad_index: see bad_slab)
+    std::size_t bad_slab = 0;
+    std::size_t removed = 0;
+};
+
+class SlabDriver {
+public:
+    SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
+               const Particles& particles, const DriverOptions& options);
+
+    StepOutcome start();                 // first cell pass, forces and a zero kick
+    StepOutcome step(double dt);
+    Particles download();                // owned particles of every device
+    std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
+
+    const SphParams& params() const { return slabs_.front().physics->params(); }
+    std::vector<Slab>& slabs() { return slabs_; }
+    std::vector<std::size_t> cuts() const;
+    std::size_t owned() const;
+    std::size_t columns() const { return grid_.params().n_s; }
+    // Bytes and particles moved between devices in the last step (host-staged).
+    std::size_t moved_particles() const { return moved_; }
+
+private:
+    std::uint32_t column_key(std::size_t column) const;
+    std::size_t owner_of(std::uint32_t key) const;
+    std::size_t redistribute();          // sort, migrate, ghosts, sort, tables; returns removed
+    void forces();
+    StepOutcome kick(double dt);
+    void rebalance(std::uint64_t step);
+    balance::ColumnProfile column_profile();
+
+    const device::Grid& grid_;
+    DriverOptions options_;
+    std::vector<Slab> slabs_;
+    std::unique_ptr<balance::Balancer> balancer_;
+    std::unique_ptr<std::ofstream> log_file_;
+    std::unique_ptr<balance::BalanceLog> log_;
+    std::uint64_t steps_ = 0;
+    std::size_t moved_ = 0;
+};
+
+}  // namespace clsph::multi
