@@ -27,23 +27,21 @@ std::array<double, 3> momentum(const Particles& p, double m) {
     return P;
 }
 
-// A 2:1 water column of width L against the wall at x = 0 in a tank 5L long, a thin slice periodic
-// in y (8 particles: three kernel supports at h = 1.3 dp). The fluid fills x in [dp, L].
+// A 2:1 water column of width L against the wall at x = 0 in a tank 4L long (the front reaches
+// 3.6 L by T = 3), a thin slice periodic in y (8 particles: three kernel supports at h = 1.3 dp).
+// The fluid fills x in [dp, L].
 Scene dam_break(double L, double dp) {
     Scene s;
     s.name = "dam break";
     s.physics.dp = dp;
     s.physics.hdp = 1.3;
-    // c0 = 10 sqrt(g H) (Mach ~0.2 at the front's speed): half the steps of the usual 20, so CI on
-    // a 2-core CPU affords it; the front moves the same within a percent (BENCHMARKS.md has both).
-    s.physics.coefsound = 10.0;
     const double depth = 8 * dp;
     s.domain.min = {-3 * dp, 0, -3 * dp};
-    s.domain.max = {5 * L + 3 * dp, depth, 2.5 * L};
+    s.domain.max = {4 * L + 3 * dp, depth, 2.2 * L};
     s.domain.periodic = {false, true, false};
     BoxWalls w;
     w.min = {0, 0, 0};
-    w.max = {5 * L, depth, 2.5 * L};
+    w.max = {4 * L, depth, 2.2 * L};
     w.faces = x_min | x_max | z_min;
     s.walls.push_back(w);
     FluidBlock f;
