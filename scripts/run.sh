@@ -36,14 +36,15 @@ python=/usr/bin/python3
 [ -x "$python" ] || python=python3
 "$python" scripts/plot_surge.py "$out" tests/data/dam_break_koshizuka_oka_1996.csv
 
+pvd=$(cd "$out" && ls *.pvd | head -1)
 cat <<MSG
 
-clsph: done in $((SECONDS - start)) s. Output in $out:
-  $(ls "$out"/*.pvd | head -1)   the particles over time: open it in ParaView (File > Open, Apply,
-                          then colour by velocity or pressure; Representation: Points or Point Gaussian)
-  $out/frame_*.vtu / .csv   one file per frame
-  $out/stats.csv            time, dt, particles, kinetic energy, max speed per step
-  $out/probe_*.csv          pressure and water-height probes
-  $out/run.json             the resolved scene, version, devices and command line
-  $out/surge_front.png      the surge front against Koshizuka & Oka (1996)
+clsph: done in $((SECONDS - start)) s. Output in $out/:
+  $pvd        all frames as one time series: open it in ParaView (File > Open, Apply; colour by
+                       velocity or pressure, representation Points or Point Gaussian)
+  frame_*.vtu, .csv    one file per frame
+  stats.csv            time, dt, particles, kinetic energy, max speed: a row per step
+  probe_*.csv          the scene's pressure and water-height probes
+  run.json             the resolved scene, clsph version, devices and command line
+  surge_front.png      the surge front against Koshizuka & Oka (1996)
 MSG
