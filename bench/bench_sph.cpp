@@ -19,10 +19,13 @@ int main(int argc, char** argv) {
     std::string devices;
     double dp = 0.006, until = 0.1;
     bool coarse = false;
+    std::string balance = "dynamic", balance_log;
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
     app.add_flag("--coarse", coarse, "coarse-grained interaction kernel");
+    app.add_option("--balance", balance, "several devices: dynamic | static | off");
+    app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
     CLI11_PARSE(app, argc, argv);
     try {
         using clock = std::chrono::steady_clock;
@@ -32,6 +35,8 @@ int main(int argc, char** argv) {
         opts.devices = devices;
         opts.profile = true;
         opts.coarse = coarse;
+        opts.balance = balance;
+        opts.balance_log = balance_log;
         clsph::Simulation sim(scene, opts);
         const double setup = std::chrono::duration<double>(clock::now() - t0).count();
         const auto p = sim.particles();
@@ -45,15 +50,15 @@ int main(int argc, char** argv) {
         std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);
         sim.profile();  // discard set-up launches from the breakdown
         const auto t1 = clock::now();
-        std::uint64_t steps = 0;
+        double steps = 0;
         sim.run_until(until, [&](const clsph::StepInfo& s) {
-            steps = s.step;
+            steps = static_cast<double>(s.step);
             if (s.step % 500 == 0) std::fprintf(stderr, "  t = %.4f s, %llu steps\n", s.time, (unsigned long long)s.step);
         });
         const double wall = std::chrono::duration<double>(clock::now() - t1).count();
-        std::printf("steps: %llu to t = %.3f s; wall %.2f s\n", (unsigned long long)steps, sim.time(), wall);
+        std::printf("steps: %.0f to t = %.3f s; wall %.2f s\n", steps, sim.time(), wall);
         std::printf("**%.2f ms/step**, %.0f wall s per simulated s, %.3g particle-steps/s\n\n", 1e3 * wall / steps,
-                    wall / sim.time(), double(p.size()) * steps / wall);
+                    wall / sim.time(), static_cast<double>(p.size()) * steps / wall);
         auto prof = sim.profile();
         double total = 0;
         for (const auto& k : prof) total += k.seconds;
@@ -63,9 +68,20 @@ int main(int argc, char** argv) {
             std::printf("| %s | %zu | %.1f | %.3f | %.1f |\n", k.name.c_str(), k.calls, 1e3 * k.seconds,
                         1e3 * k.seconds / steps, 100 * k.seconds / total);
         std::printf("\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
+        const auto shares = sim.shares();
+        if (shares.size() > 1) {
+            double tmax = 0, tsum = 0;
+            for (const auto& sh : shares) {
+                tmax = std::max(tmax, sh.force_seconds);
+                tsum += sh.force_seconds;
+                std::printf("share of %s: %zu particles, columns [%zu, %zu), last force pass %.2f ms\n", sh.device.c_str(),
+                            sh.particles, sh.first_column, sh.end_column, 1e3 * sh.force_seconds);
+            }
+            std::printf("imbalance of the last step's force passes (max/mean): %.3f\n", tmax / (tsum / double(shares.size())));
+        }
         for (const auto& m : sim.memory())
             std::printf("memory on %s: peak %.1f MiB for %zu particles = %.1f bytes/particle (capacity %zu)\n",
-                        m.device.c_str(), m.peak_bytes / 1048576.0, m.particles, m.bytes_per_particle(),
+                        m.device.c_str(), static_cast<double>(m.peak_bytes) / 1048576.0, m.particles, m.bytes_per_particle(),
                         m.capacity_particles);
     } catch (const clsph::Error& e) {
         std::cerr << "clsph-bench-sph: " << e.what() << '\n';
