@@ -9,6 +9,8 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     opts.devices = args.devices;
     opts.profile = args.profile;
     opts.coarse = args.coarse;
+    opts.balance = args.balance;
+    opts.balance_log = args.balance_log;
     try {
         return std::make_unique<Simulation>(scene, opts);
     } catch (const SceneError& e) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 namespace clsph::app {
 
@@ -18,14 +19,23 @@ void print_summary(std::ostream& os, const RunTotals& t) {
                   format_duration(t.loop_seconds).c_str(), format_duration(t.setup_seconds).c_str(), ms_per_step, rate);
     os << text;
     os << "  particles: " << t.last.particles << " (" << t.fluid << " fluid), removed " << t.last.removed << '\n';
-    os << "  devices:";
-    for (std::size_t i = 0; i < t.devices.size(); ++i) os << (i ? ", " : " ") << t.devices[i];
-    os << '\n';
+    for (std::size_t i = 0; i < t.devices.size(); ++i) os << (i ? "           " : "  devices: ") << t.devices[i] << '\n';
     os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
        << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";
 }
 
-void print_profile(std::ostream& os, std::vector<KernelTime> kernels, std::uint64_t steps) {
+void print_profile(std::ostream& os, const std::vector<KernelTime>& per_device, std::uint64_t steps,
+                   std::size_t devices) {
+    // Simulation::profile() lists each device's kernels in turn; the table sums them by name.
+    std::map<std::string, KernelTime> by_name;
+    for (const auto& k : per_device) {
+        auto& sum = by_name[k.name];
+        sum.name = k.name;
+        sum.calls += k.calls;
+        sum.seconds += k.seconds;
+    }
+    std::vector<KernelTime> kernels;
+    for (auto& entry : by_name) kernels.push_back(entry.second);
     std::sort(kernels.begin(), kernels.end(), [](const KernelTime& a, const KernelTime& b) { return a.seconds > b.seconds; });
     double total = 0.0;
     std::size_t calls = 0, width = 6;
@@ -37,7 +47,9 @@ void print_profile(std::ostream& os, std::vector<KernelTime> kernels, std::uint6
     const int w = static_cast<int>(width);
     char text[512];
     std::snprintf(text, sizeof text, "%-*s %10s %12s %12s %7s\n", w, "kernel", "calls", "ms", "ms/call", "%");
-    os << "\nper-kernel device time (" << steps << " steps):\n" << text;
+    os << "\nper-kernel device time (" << steps << " steps"
+       << (devices > 1 ? ", summed over " + std::to_string(devices) + " devices" : std::string()) << "):\n"
+       << text;
     for (const auto& k : kernels) {
         const double ms = 1e3 * k.seconds;
         std::snprintf(text, sizeof text, "%-*s %10zu %12.2f %12.4f %7.1f\n", w, k.name.c_str(), k.calls, ms,

@@ -20,12 +20,14 @@ struct RunTotals {
     std::size_t frames = 0;
     std::string out_dir;
     std::string collection;         // the .pvd
-    std::vector<std::string> devices;
+    std::vector<std::string> devices;  // a line per device: name and its share
 };
 
 void print_summary(std::ostream& os, const RunTotals& t);
 
-// Per-kernel calls, total ms, ms per call and share of the kernel total, largest first.
-void print_profile(std::ostream& os, std::vector<KernelTime> kernels, std::uint64_t steps);
+// Per-kernel calls, total ms, ms per call and share of the kernel total, largest first; with
+// several devices each kernel's calls and times are summed over them.
+void print_profile(std::ostream& os, const std::vector<KernelTime>& per_device, std::uint64_t steps,
+                   std::size_t devices);
 
 }  // namespace clsph::app

@@ -15,6 +15,8 @@ struct RunArgs {
     std::optional<std::string> out;           // default: out/<scene file stem>
     std::optional<double> every;              // seconds between frames; default: run.output_every
     std::vector<std::string> overrides;       // --set KEY=VALUE, in order
+    std::string balance = "dynamic";          // several devices: dynamic | static | off
+    std::string balance_log;                  // several devices: the balancer's per-step CSV
     bool csv = false;
     bool profile = false;
     bool dry_run = false;

@@ -62,7 +62,7 @@ public:
             totals_.particle_steps += static_cast<double>(s.particles);
             const int every = sim_.scene().run.probe_every;
             if (every > 0 && s.step % static_cast<std::uint64_t>(every) == 0) sample_probes();
-            progress_.update(s);
+            progress_.update(s, sim_);
             frames_.check();  // a writer error (disk full) ends the run now, not at the end
             if (interrupt_requested()) throw StopRun{"interrupted"};
             if (plan_.steps && s.step - first_step >= *plan_.steps) throw StopRun{"completed"};
@@ -112,10 +112,18 @@ public:
         totals_.frames = frames_.frames_written();
         totals_.out_dir = plan_.out_dir;
         totals_.collection = frames_.collection_path();
-        totals_.devices = sim_.device_names();
-        if (code == exit_simulation_failed) std::cerr << "clsph: error: " << message << '\n';
+        for (const auto& d : sim_.shares()) {
+            // Where the slabs ended up: particles and grid columns per device.
+            totals_.devices.push_back(d.device + ": " + std::to_string(d.particles) + " particles, grid columns [" +
+                                      std::to_string(d.first_column) + ", " + std::to_string(d.end_column) + ")");
+        }
         print_summary(std::cout, totals_);
-        if (args_.profile) print_profile(std::cout, sim_.profile(), totals_.steps);
+        if (args_.profile) print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
+        if (code == exit_simulation_failed) {
+            std::cout.flush();  // the error is the last thing said
+            std::cerr << "clsph: error: " << message << "\nclsph: the last good state is in " << plan_.out_dir
+                      << "/last_good.vtu\n";
+        }
         return code;
     }
 
@@ -130,7 +138,6 @@ private:
         const std::string base = plan_.out_dir + "/last_good";
         write_vtu(base + ".vtu", sim_.last_good());
         if (args_.csv) write_csv(base + ".csv", sim_.last_good());
-        std::cerr << "clsph: the last good state is in " << base << ".vtu\n";
     }
 
     Simulation& sim_;
@@ -155,8 +162,12 @@ int run_command(const RunArgs& args) {
     Simulation& sim = *simulation;
     std::cout << "clsph: " << args.scene_path << " on";
     for (const auto& d : sim.device_names()) std::cout << ' ' << d;
-    std::cout << ": " << sim.info().particles << " particles, to t = " << plan.until << " s, output in " << plan.out_dir
-              << std::endl;
+    std::cout << ": " << sim.info().particles << " particles, ";
+    if (std::isfinite(plan.until))
+        std::cout << "to t = " << plan.until << " s";
+    else
+        std::cout << *plan.steps << " steps";
+    std::cout << ", output in " << plan.out_dir << std::endl;
 
     // Only now, with the scene loaded and the devices ready, does the directory appear.
     prepare_output_dir(plan.out_dir, args.force);

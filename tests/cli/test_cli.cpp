@@ -188,6 +188,22 @@ TEST_CASE("Ctrl-C ends the run after a whole step, with a final frame") {
     CHECK(clsph::read_vtu(out + "/" + pvd.back().file).size() > 0);
 }
 
+TEST_CASE("a blow-up: exit 2, the error named, the last good state written") {
+    const std::string out = work_dir("blow_up");
+    std::string log;
+    // The column thrown at the wall behind it at 20 m/s: the wall's density leaves its band in a few steps.
+    const int code = run(args({{"run", scene}, tiny, {"--set", "fluid[0].velocity=[-20,0,0]", "--until", "0.01", "--out", out}}), log);
+    INFO(log);
+    CHECK(code == 2);
+    CHECK(log.find("clsph: error: step ") != std::string::npos);
+    CHECK(log.find("outside the allowed band") != std::string::npos);
+    const auto j = read_json(out + "/run.json");
+    CHECK(j.at("status") == "failed");
+    CHECK(j.at("message").get<std::string>().find("outside the allowed band") != std::string::npos);
+    CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
+    CHECK(clsph::read_pvd(out + "/dam_break.pvd").size() >= 1);
+}
+
 TEST_CASE("--dry-run reports and writes nothing") {
     const std::string out = work_dir("dry_run");
     std::string log;
