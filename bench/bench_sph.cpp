@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
         std::printf("\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
         const auto shares = sim.shares();
         if (shares.size() > 1) {
+            std::printf("\nhost wall time per step phase (ms/step):\n");
+            for (const auto& ph : sim.host_phases()) std::printf("  %s: %.2f\n", ph.name.c_str(), 1e3 * ph.seconds / steps);
             double tmax = 0, tsum = 0;
             for (const auto& sh : shares) {
                 tmax = std::max(tmax, sh.force_seconds);

@@ -157,14 +157,3 @@ __kernel void mark_invalid(const uint first, const uint end, const uint invalid_
     if (i >= end) return;
     pos[i].w = as_float(invalid_key);
 }
-
-// Particles per cell column along the split axis, by type (fluid, boundary): the balancer's
-// work profile. hist holds 2 * n_s counters, zeroed by the host.
-__kernel void column_histogram(const uint first, const uint end, const GridParams g, __global const uint* keys,
-                               __global const uint* ids, __global uint* hist) {
-    const uint i = first + (uint)get_global_id(0);
-    if (i >= end) return;
-    const uint col = key_s(g, keys[i]);
-    const uint type = (ids[i] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? 0u : 1u;
-    atomic_inc(&hist[2u * col + type]);
-}

@@ -207,6 +207,12 @@ std::vector<KernelTime> Simulation::profile() {
     return out;
 }
 
+std::vector<KernelTime> Simulation::host_phases() const {
+    std::vector<KernelTime> out;
+    for (const auto& [name, seconds] : impl_->driver->phase_seconds()) out.push_back({name, impl_->info.step, seconds});
+    return out;
+}
+
 std::vector<MemoryReport> Simulation::memory() const {
     std::vector<MemoryReport> out;
     for (auto& s : impl_->driver->slabs()) {

@@ -89,6 +89,7 @@ public:
     std::vector<ProbeSample> sample_probes();
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
+    std::vector<KernelTime> host_phases() const;  // several devices: host wall time per step phase
     std::vector<MemoryReport> memory() const;
 
     struct Impl;

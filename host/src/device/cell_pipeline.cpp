@@ -16,7 +16,6 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     ranges_k_ = device.kernel("cells.cl", "neighbour_ranges", opts);
     locate_k_ = device.kernel("cells.cl", "locate_keys", opts);
     invalid_k_ = device.kernel("cells.cl", "mark_invalid", opts);
-    hist_k_ = device.kernel("cells.cl", "column_histogram", opts);
     reserve_cells(1024);
 }
 
@@ -47,11 +46,15 @@ CellPassResult CellPipeline::run(ParticleStore& ps) {
 
 std::vector<std::size_t> CellPipeline::sort_particles(ParticleStore& ps, std::size_t n_all, std::size_t keep_first,
                                                       std::size_t keep_end, const std::vector<std::uint32_t>& thresholds) {
+    enqueue_sort(ps, n_all, keep_first, keep_end);
+    return locate(ps, n_all, thresholds);
+}
+
+void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_t keep_first, std::size_t keep_end) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
     const GridParams g = grid_.params();
-    std::vector<std::size_t> out(thresholds.size(), 0);
-    if (n == 0) return out;
+    if (n == 0) return;
 
     keys_k_.setArg(0, n);
     keys_k_.setArg(1, static_cast<cl_uint>(keep_first));
@@ -81,8 +84,14 @@ std::vector<std::size_t> CellPipeline::sort_particles(ParticleStore& ps, std::si
     gather1_k_.setArg(3, ps.scratch.get());
     d.launch("reorder.uint", gather1_k_, n, wg_);
     d.copy(ps.scratch, ps.id, n * sizeof(cl_uint));
+}
 
-    if (thresholds.empty()) return out;
+std::vector<std::size_t> CellPipeline::locate(ParticleStore& ps, std::size_t n_all,
+                                              const std::vector<std::uint32_t>& thresholds) {
+    auto& d = device_;
+    const cl_uint n = static_cast<cl_uint>(n_all);
+    std::vector<std::size_t> out(thresholds.size(), 0);
+    if (n == 0 || thresholds.empty()) return out;
     const std::size_t t = thresholds.size();
     if (thresholds_.bytes() < t * sizeof(cl_uint)) {
         thresholds_ = d.alloc(t * sizeof(cl_uint), "key thresholds");
@@ -144,24 +153,6 @@ void CellPipeline::mark_invalid(ParticleStore& ps, std::size_t first, std::size_
     invalid_k_.setArg(2, grid_.params().invalid_key);
     invalid_k_.setArg(3, ps.pos.get());
     device_.launch("cells.mark_invalid", invalid_k_, end - first, wg_);
-}
-
-std::vector<std::uint32_t> CellPipeline::column_histogram(ParticleStore& ps, std::size_t first, std::size_t end) {
-    const std::size_t bins = 2 * static_cast<std::size_t>(grid_.params().n_s);
-    if (hist_.bytes() < bins * sizeof(cl_uint)) hist_ = device_.alloc(bins * sizeof(cl_uint), "column histogram");
-    device_.fill(hist_, cl_uint(0), bins);
-    if (end > first) {
-        hist_k_.setArg(0, static_cast<cl_uint>(first));
-        hist_k_.setArg(1, static_cast<cl_uint>(end));
-        hist_k_.setArg(2, grid_.params());
-        hist_k_.setArg(3, ps.keys.get());
-        hist_k_.setArg(4, ps.id.get());
-        hist_k_.setArg(5, hist_.get());
-        device_.launch("cells.column_histogram", hist_k_, end - first, wg_);
-    }
-    std::vector<std::uint32_t> h(bins);
-    device_.read(hist_, h.data(), bins);
-    return h;
 }
 
 }  // namespace clsph::device

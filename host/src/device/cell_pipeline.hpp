@@ -35,13 +35,13 @@ public:
     // first sorted position whose key is >= it (one blocking read).
     std::vector<std::size_t> sort_particles(ParticleStore& store, std::size_t n, std::size_t keep_first,
                                             std::size_t keep_end, const std::vector<std::uint32_t>& thresholds);
+    // sort_particles in two halves: enqueue the keys, sort and reorder; then (blocking) locate.
+    void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end);
+    std::vector<std::size_t> locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds);
     // Cell tables over the sorted, valid particles [0, n); returns the number of non-empty cells.
     std::size_t build_tables(ParticleStore& store, std::size_t n);
     // Gives particles [first, end) the invalid key (they were handed to another device).
     void mark_invalid(ParticleStore& store, std::size_t first, std::size_t end);
-    // Particles of [first, end) (sorted keys) per column of the split axis: 2 counters per column,
-    // fluid then boundary. Blocking.
-    std::vector<std::uint32_t> column_histogram(ParticleStore& store, std::size_t first, std::size_t end);
 
     std::size_t cells() const { return cells_; }
     const cl_rt::Buffer& cell_key() const { return cell_key_; }
@@ -57,8 +57,8 @@ private:
     RadixSort sort_;
     Scan scan_;
     std::size_t wg_;
-    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_, hist_k_;
-    cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_, hist_;
+    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
+    cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
 };
 

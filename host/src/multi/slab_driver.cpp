@@ -4,10 +4,26 @@
 #include "multi/link.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
 namespace clsph::multi {
 namespace {
+// Adds the wall time of a scope to one phase's total.
+class PhaseTimer {
+public:
+    PhaseTimer(std::map<std::string, double>& phases, const char* name)
+        : phases_(phases), name_(name), start_(std::chrono::steady_clock::now()) {}
+    ~PhaseTimer() { phases_[name_] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+    PhaseTimer(const PhaseTimer&) = delete;
+    PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+private:
+    std::map<std::string, double>& phases_;
+    const char* name_;
+    std::chrono::steady_clock::time_point start_;
+};
+
 balance::Mode mode_of(const std::string& m) {
     if (auto mode = balance::mode_from_string(m)) return *mode;
     throw Error("--balance: unknown mode '" + m + "' (use dynamic, static or off)");
@@ -38,6 +54,10 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
         profile.work[c] += p.type[i] == ParticleType::fluid ? 1.0 : balance::default_boundary_weight;
         profile.particles[c] += 1;
     }
+    boundary_per_column_.assign(columns, 0);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.type[i] == ParticleType::boundary && key[i] != grid.params().invalid_key)
+            boundary_per_column_[grid.cell_of_key(key[i])[0]] += 1;
     const auto cuts = D == 1 ? std::vector<std::size_t>{0, columns} : balancer_->initial_cuts(profile);
     slabs_.resize(D);
     for (std::size_t d = 0; d < D; ++d) {
@@ -112,79 +132,105 @@ std::size_t SlabDriver::redistribute() {
         return removed;
     }
     // 1. Sort each device's owned particles (stale ghosts dropped); find leavers and edge columns.
-    struct Edges { std::size_t a0, a1, nv, h0, h1; ParticleBatch leavers, first_col, last_col; };
+    //    All sorts are enqueued before any result is waited for, so the devices sort together.
+    struct Edges { std::size_t a0 = 0, a1 = 0, nv = 0, h0 = 0, h1 = 0; ParticleBatch leavers, first_col, last_col; };
     std::vector<Edges> e(D);
-    for (std::size_t d = 0; d < D; ++d) {
-        Slab& s = slabs_[d];
-        auto& ps = *s.store;
-        const std::size_t owned = ps.ranges.owned;
-        const auto at = s.cells->sort_particles(
-            ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned(),
-            {column_key(s.first_col), column_key(s.end_col), invalid,
-             column_key(std::min(s.first_col + 1, s.end_col)), column_key(s.end_col > s.first_col ? s.end_col - 1 : s.end_col)});
-        Edges& x = e[d];
-        x.a0 = at[0];
-        x.a1 = std::max(at[1], x.a0);
-        x.nv = at[2];
-        x.h0 = std::min(std::max(at[3], x.a0), x.a1);
-        x.h1 = std::min(std::max(at[4], x.a0), x.a1);
-        removed += owned - x.nv;
-        ParticleBatch front, back;
-        read_range(ps, 0, x.a0, front);
-        read_range(ps, x.a1, x.nv - x.a1, back);
-        x.leavers = front;
-        x.leavers.append(back, 0, back.size());
-        if (!s.empty()) {
-            read_range(ps, x.a0, x.h0 - x.a0, x.first_col);
-            read_range(ps, x.h1, x.a1 - x.h1, x.last_col);
+    {
+        PhaseTimer t(phases_, "exchange: sort");
+        for (std::size_t d = 0; d < D; ++d) {
+            auto& ps = *slabs_[d].store;
+            slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
+        }
+    }
+    {
+        PhaseTimer t(phases_, "exchange: read leavers and edges");
+        for (std::size_t d = 0; d < D; ++d) {
+            Slab& s = slabs_[d];
+            auto& ps = *s.store;
+            const std::size_t owned = ps.ranges.owned;
+            const auto at = s.cells->locate(
+                ps, ps.ranges.active(),
+                {column_key(s.first_col), column_key(s.end_col), invalid, column_key(std::min(s.first_col + 1, s.end_col)),
+                 column_key(s.end_col > s.first_col ? s.end_col - 1 : s.end_col)});
+            Edges& x = e[d];
+            x.a0 = at[0];
+            x.a1 = std::max(at[1], x.a0);
+            x.nv = at[2];
+            x.h0 = std::min(std::max(at[3], x.a0), x.a1);
+            x.h1 = std::min(std::max(at[4], x.a0), x.a1);
+            removed += owned - x.nv;
+            ParticleBatch back;
+            read_range(ps, 0, x.a0, x.leavers);
+            read_range(ps, x.a1, x.nv - x.a1, back);
+            x.leavers.append(back, 0, back.size());
+            // Edge columns only where a neighbour will read them as ghosts.
+            bool left = false, right = false;
+            for (std::size_t l = 0; l < d; ++l) left = left || !slabs_[l].empty();
+            for (std::size_t r = d + 1; r < D; ++r) right = right || !slabs_[r].empty();
+            if (!s.empty() && left) read_range(ps, x.a0, x.h0 - x.a0, x.first_col);
+            if (!s.empty() && right) read_range(ps, x.h1, x.a1 - x.h1, x.last_col);
         }
     }
     // 2. Route every leaver to the device owning its column now.
     std::vector<ParticleBatch> arrivals(D);
-    for (std::size_t d = 0; d < D; ++d)
-        for (std::size_t i = 0; i < e[d].leavers.size(); ++i) {
-            arrivals[owner_of(e[d].leavers.key(i))].append(e[d].leavers, i, 1);
-            ++moved_;
-        }
-    // 3. Each device's ghosts: the last column of the nearest non-empty device before it and the
-    //    first column of the nearest one after it, arrivals in those columns included.
-    auto edge_with_arrivals = [&](std::size_t owner, bool last) {
-        ParticleBatch b = last ? e[owner].last_col : e[owner].first_col;
-        const std::size_t col = last ? slabs_[owner].end_col - 1 : slabs_[owner].first_col;
-        const auto& arr = arrivals[owner];
-        for (std::size_t i = 0; i < arr.size(); ++i)
-            if (grid_.cell_of_key(arr.key(i))[0] == col) b.append(arr, i, 1);
-        return b;
-    };
-    for (std::size_t d = 0; d < D; ++d) {
-        Slab& s = slabs_[d];
-        auto& ps = *s.store;
-        ParticleBatch incoming = arrivals[d];
-        if (!s.empty()) {
+    std::vector<ParticleBatch> incoming(D);
+    {
+        PhaseTimer t(phases_, "exchange: route on the host");
+        for (std::size_t d = 0; d < D; ++d)
+            for (std::size_t i = 0; i < e[d].leavers.size(); ++i) {
+                arrivals[owner_of(e[d].leavers.key(i))].append(e[d].leavers, i, 1);
+                ++moved_;
+            }
+        // 3. Each device's ghosts: the last column of the nearest non-empty device before it and the
+        //    first column of the nearest one after it, arrivals in those columns included.
+        auto add_edge = [&](ParticleBatch& to, std::size_t owner, bool last) {
+            const ParticleBatch& b = last ? e[owner].last_col : e[owner].first_col;
+            to.append(b, 0, b.size());
+            const std::size_t col = last ? slabs_[owner].end_col - 1 : slabs_[owner].first_col;
+            const auto& arr = arrivals[owner];
+            for (std::size_t i = 0; i < arr.size(); ++i)
+                if (grid_.cell_of_key(arr.key(i))[0] == col) to.append(arr, i, 1);
+        };
+        for (std::size_t d = 0; d < D; ++d) {
+            incoming[d] = arrivals[d];
+            if (slabs_[d].empty()) continue;
             for (std::size_t l = d; l-- > 0;)
                 if (!slabs_[l].empty()) {
-                    const auto g = edge_with_arrivals(l, true);
-                    incoming.append(g, 0, g.size());
+                    add_edge(incoming[d], l, true);
                     break;
                 }
             for (std::size_t r = d + 1; r < D; ++r)
                 if (!slabs_[r].empty()) {
-                    const auto g = edge_with_arrivals(r, false);
-                    incoming.append(g, 0, g.size());
+                    add_edge(incoming[d], r, false);
                     break;
                 }
         }
-        // 4. Leavers out, arrivals and ghosts in, sort again: [ghosts | owned | ghosts].
-        const Edges& x = e[d];
-        s.cells->mark_invalid(ps, 0, x.a0);
-        s.cells->mark_invalid(ps, x.a1, x.nv);
-        ps.ranges = device::ParticleRanges{0, x.nv, 0};
-        ps.reserve(x.nv + incoming.size());
-        write_range(ps, x.nv, incoming);
-        const std::size_t n = x.nv + incoming.size();
-        const auto at = s.cells->sort_particles(ps, n, 0, n, {column_key(s.first_col), column_key(s.end_col), invalid});
-        ps.ranges = device::ParticleRanges{at[0], at[1] - at[0], at[2] - at[1]};
-        s.cells->build_tables(ps, at[2]);
+    }
+    // 4. Leavers out, arrivals and ghosts in, sort again: [ghosts | owned | ghosts].
+    {
+        PhaseTimer t(phases_, "exchange: write arrivals and ghosts");
+        for (std::size_t d = 0; d < D; ++d) {
+            Slab& s = slabs_[d];
+            auto& ps = *s.store;
+            const Edges& x = e[d];
+            s.cells->mark_invalid(ps, 0, x.a0);
+            s.cells->mark_invalid(ps, x.a1, x.nv);
+            ps.ranges = device::ParticleRanges{0, x.nv, 0};
+            ps.reserve(x.nv + incoming[d].size());
+            write_range(ps, x.nv, incoming[d]);
+            s.cells->enqueue_sort(ps, x.nv + incoming[d].size(), 0, x.nv + incoming[d].size());
+        }
+    }
+    {
+        PhaseTimer t(phases_, "exchange: second sort and cell tables");
+        for (std::size_t d = 0; d < D; ++d) {
+            Slab& s = slabs_[d];
+            auto& ps = *s.store;
+            const std::size_t n = e[d].nv + incoming[d].size();
+            const auto at = s.cells->locate(ps, n, {column_key(s.first_col), column_key(s.end_col), invalid});
+            ps.ranges = device::ParticleRanges{at[0], at[1] - at[0], at[2] - at[1]};
+            s.cells->build_tables(ps, at[2]);
+        }
     }
     return removed;
 }
@@ -234,6 +280,7 @@ StepOutcome SlabDriver::step(double dt) {
     }
     for (auto& s : slabs_) s.physics->kick_drift(*s.store, dt);
     const std::size_t removed = redistribute();
+    StepOutcome out;
     std::vector<double> before(slabs_.size());
     for (std::size_t d = 0; d < slabs_.size(); ++d)
         if (slabs_.size() > 1) {
@@ -241,8 +288,11 @@ StepOutcome SlabDriver::step(double dt) {
             auto it = st.find("sph.forces");
             before[d] = it == st.end() ? 0.0 : it->second.seconds;
         }
-    forces();
-    StepOutcome out = kick(dt);
+    {
+        PhaseTimer t(phases_, "forces and kick");
+        forces();
+        out = kick(dt);
+    }
     out.removed = removed;
     ++steps_;
     if (slabs_.size() > 1) {
@@ -251,22 +301,30 @@ StepOutcome SlabDriver::step(double dt) {
             auto it = st.find("sph.forces");
             slabs_[d].force_seconds = (it == st.end() ? 0.0 : it->second.seconds) - before[d];
         }
+        PhaseTimer t(phases_, "balance");
         if (!options_.cut_schedule) rebalance(steps_);
     }
     return out;
 }
 
 balance::ColumnProfile SlabDriver::column_profile() {
+    // Particles per column: the sorted keys put each column in one contiguous range, so its count
+    // is a difference of two lower bounds (one search per column, no atomics). Boundary particles
+    // never move, so the fluid count is the rest.
     const std::size_t columns = grid_.params().n_s;
     balance::ColumnProfile p;
     p.work.assign(columns, 0.0);
     p.particles.assign(columns, 0);
     for (auto& s : slabs_) {
-        const auto& r = s.store->ranges;
-        const auto h = s.cells->column_histogram(*s.store, r.first_owned(), r.end_owned());
-        for (std::size_t c = 0; c < columns; ++c) {
-            p.work[c] += balance::column_work(h[2 * c], h[2 * c + 1]);
-            p.particles[c] += h[2 * c] + h[2 * c + 1];
+        if (s.empty()) continue;
+        std::vector<std::uint32_t> thresholds;
+        for (std::size_t c = s.first_col; c <= s.end_col; ++c) thresholds.push_back(column_key(c));
+        const auto at = s.cells->locate(*s.store, s.store->ranges.active(), thresholds);
+        for (std::size_t c = s.first_col; c < s.end_col; ++c) {
+            const std::size_t n = at[c - s.first_col + 1] - at[c - s.first_col];
+            const std::size_t b = std::min(n, boundary_per_column_[c]);
+            p.particles[c] = n;
+            p.work[c] = balance::column_work(n - b, b);
         }
     }
     return p;

@@ -15,6 +15,7 @@
 #include "device/physics.hpp"
 
 #include <fstream>
+#include <map>
 #include <functional>
 #include <memory>
 #include <string>
@@ -64,6 +65,8 @@ public:
     std::size_t columns() const { return grid_.params().n_s; }
     // Bytes and particles moved between devices in the last step (host-staged).
     std::size_t moved_particles() const { return moved_; }
+    // Host wall time spent in each phase of the step since the start (where the time goes).
+    const std::map<std::string, double>& phase_seconds() const { return phases_; }
 
 private:
     std::uint32_t column_key(std::size_t column) const;
@@ -82,6 +85,8 @@ private:
     std::unique_ptr<balance::BalanceLog> log_;
     std::uint64_t steps_ = 0;
     std::size_t moved_ = 0;
+    std::map<std::string, double> phases_;
+    std::vector<std::size_t> boundary_per_column_;  // boundary particles never move: counted once
 };
 
 }  // namespace clsph::multi
