@@ -85,6 +85,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.balance = options.balance;
     dopt.balance_log = options.balance_log;
     dopt.slowdown = options.slowdown;
+    dopt.serialize = options.serialize_devices;
     dopt.headroom = options.capacity_headroom;
     dopt.cut_schedule = options.cut_schedule;
     m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);

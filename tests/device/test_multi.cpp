@@ -178,7 +178,9 @@ TEST_CASE("a device slowed k times ends with about 1/k of the other's particles"
     // A uniform fluid slab without gravity or walls: work is proportional to particles along x,
     // so the particle shares show the balance directly.
     Scene scene;
-    const double dp = 0.008;
+    // ~23k particles: per-particle cost dominates pocl's fixed cost per launch, and timing noise
+    // of a shared 2-core machine is small against ~50 ms force passes.
+    const double dp = 0.005;
     scene.physics.dp = dp;
     scene.physics.hdp = 1.3;
     scene.physics.gravity = {0, 0, 0};
@@ -193,12 +195,13 @@ TEST_CASE("a device slowed k times ends with about 1/k of the other's particles"
     Options o;
     o.devices = spec_of(2);
     o.slowdown = {k, 1};
+    o.serialize_devices = true;  // both devices share the CPU: time each force pass alone
     if (const char* log = std::getenv("CLSPH_BALANCE_LOG")) o.balance_log = log;
     Simulation sim(scene, o);
     std::vector<double> ratios;
-    for (int i = 0; i < 120; ++i) {
+    for (int i = 0; i < 80; ++i) {
         sim.step();
-        if (i >= 60) {
+        if (i >= 40) {
             const auto s = sim.shares();
             ratios.push_back(double(s[0].particles) / double(s[1].particles));
         }
@@ -207,11 +210,10 @@ TEST_CASE("a device slowed k times ends with about 1/k of the other's particles"
     const double median = ratios[ratios.size() / 2];
     const auto s = sim.shares();
     MESSAGE("slowed device " << s[0].particles << " particles, other " << s[1].particles
-                             << "; median share ratio over the last 60 steps " << median << " (1/k = " << 1.0 / k << ")");
-    // Time = fixed + per particle; the slowed device pays its fixed (launch) cost k times too, so the
-    // balanced share sits below 1/k where fixed costs matter (pocl on small slabs: ~0.15-0.3 for
-    // k = 3 here). Without the balancer the share would stay at the initial equal-work 1.
-    CHECK(median > 0.3 / k);
+                             << "; median share ratio over the last 40 steps " << median << " (1/k = " << 1.0 / k << ")");
+    // Measured 0.30-0.33 for k = 3. Without the balancer the ratio would stay at the initial
+    // equal-work split, 1.
+    CHECK(median > 0.5 / k);
     CHECK(median < 1.5 / k);
 }
 }

@@ -20,6 +20,9 @@ struct Options {
     std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
+    // Tests and diagnostics: run each device's force pass alone (wait for it before starting the
+    // next), so devices that share a CPU are timed without each other's load.
+    bool serialize_devices = false;
     // Tests: cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };

@@ -240,6 +240,7 @@ void SlabDriver::forces() {
         Slab& s = slabs_[d];
         const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
         for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
+        if (options_.serialize) s.device->finish();
     }
 }
 

@@ -28,6 +28,7 @@ struct DriverOptions {
     std::string balance = "dynamic";  // dynamic | static | off
     std::string balance_log;          // CSV path, empty: none
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
+    bool serialize = false;           // tests: one device's force pass at a time
     double headroom = 0.25;
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
 };
