@@ -81,13 +81,7 @@ __kernel void locate_keys(const uint count, const uint n, __global const uint* k
                           __global const uint* thresholds, __global uint* out) {
     const uint t = get_global_id(0);
     if (t >= count) return;
-    const uint want = thresholds[t];
-    uint lo = 0, hi = n;
-    while (lo < hi) {
-        const uint mid = (lo + hi) >> 1;
-        if (keys[mid] < want) lo = mid + 1u; else hi = mid;
-    }
-    out[t] = lo;
+    out[t] = lower_bound_key(keys, n, thresholds[t]);
 }
 
 // After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and
@@ -108,16 +102,6 @@ __kernel void cell_of_particle(const uint n, __global const uint* keys, __global
     const uint i = get_global_id(0);
     if (i >= n) return;
     scan[i] = scan[i] + starts_cell(keys, i) - 1u;  // each element reads and writes only itself
-}
-
-// First index in cell_key[0..k) whose key is >= want.
-inline uint lower_bound_key(__global const uint* cell_key, const uint k, const uint want) {
-    uint lo = 0, hi = k;
-    while (lo < hi) {
-        const uint mid = (lo + hi) >> 1;
-        if (cell_key[mid] < want) lo = mid + 1u; else hi = mid;
-    }
-    return lo;
 }
 
 // ranges[c * 9 + r] = [begin, end) of the particles in neighbour row r of cell c. A row is the

@@ -27,6 +27,16 @@ inline uint make_key(const GridParams g, uint s, uint a, uint b) {
     return (g.shift_s >= 32u ? 0u : (s << g.shift_s)) | (a << g.shift_a) | (b + 1u);
 }
 
+// First index in sorted keys[0..n) whose key is >= want (cell tables, slab edges, probes).
+inline uint lower_bound_key(__global const uint* keys, const uint n, const uint want) {
+    uint lo = 0, hi = n;
+    while (lo < hi) {
+        const uint mid = (lo + hi) >> 1;
+        if (keys[mid] < want) lo = mid + 1u; else hi = mid;
+    }
+    return lo;
+}
+
 // The key of a particle is kept in pos.w (as bits), next to its offset from the cell centre.
 inline uint pos_key(const float4 p) { return as_uint(p.w); }
 

@@ -5,15 +5,6 @@
 #include "grid.h"
 #include "sph_kernel.h"
 
-inline uint lower_bound_cell(__global const uint* cell_key, const uint k, const uint want) {
-    uint lo = 0, hi = k;
-    while (lo < hi) {
-        const uint mid = (lo + hi) >> 1;
-        if (cell_key[mid] < want) lo = mid + 1u; else hi = mid;
-    }
-    return lo;
-}
-
 __kernel void probe_points(const uint points, const uint cells, const GridParams g, const SphParams sp,
                            __global const float4* query, __global const uint* cell_key,
                            __global const uint* cell_start, __global const float4* pos,
@@ -35,8 +26,8 @@ __kernel void probe_points(const uint points, const uint cells, const GridParams
                 }
                 if (s2 < 0 || s2 >= (int)g.n_s || a2 < 0 || a2 >= (int)g.n_a) continue;
                 const uint mid = make_key(g, (uint)s2, (uint)a2, b);
-                const uint begin = cell_start[lower_bound_cell(cell_key, cells, mid - 1u)];
-                const uint end = cell_start[lower_bound_cell(cell_key, cells, mid + 2u)];
+                const uint begin = cell_start[lower_bound_key(cell_key, cells, mid - 1u)];
+                const uint end = cell_start[lower_bound_key(cell_key, cells, mid + 2u)];
                 for (uint j = begin; j < end; ++j) {
                     if ((ids[j] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) continue;
                     const float4 pj = pos[j];

@@ -1,6 +1,7 @@
 // The force pass against a CPU implementation of the same formulas (kernels/forces.cl), every
 // device, both iteration schemes, each diffusion variant, viscosity on and off, both kernels.
 #include "device/physics.hpp"
+#include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -12,28 +13,7 @@ using namespace clsph::device;
 
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
-double f_of(KernelType k, double h, double r) {  // (dW/dr) / r
-    const double q = r / h;
-    if (q >= 2 || r <= 0) return 0;
-    if (k == KernelType::wendland_c2) {
-        const double t = 1 - q / 2;
-        return -5 * 21.0 / (16 * kPi * h * h * h) / (h * h) * t * t * t;
-    }
-    const double a = 1 / (kPi * h * h * h);
-    return a / h * (q < 1 ? (-3 * q + 2.25 * q * q) : (-0.75 * (2 - q) * (2 - q))) / r;
-}
-double w_of(KernelType k, double h, double r) {
-    const double q = r / h;
-    if (q >= 2) return 0;
-    if (k == KernelType::wendland_c2) {
-        const double t = 1 - q / 2;
-        return 21.0 / (16 * kPi * h * h * h) * t * t * t * t * (2 * q + 1);
-    }
-    const double a = 1 / (kPi * h * h * h);
-    return q < 1 ? a * (1 - 1.5 * q * q + 0.75 * q * q * q) : a * 0.25 * (2 - q) * (2 - q) * (2 - q);
-}
 
 struct Expect {
     std::vector<std::array<double, 4>> value;  // acceleration xyz + drho/dt (or density)
@@ -65,7 +45,7 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
                 vd += v[k] * d[k];
             }
             if (r2 >= 4 * h * h) continue;
-            const double r = std::sqrt(r2), f = f_of(ph.kernel, h, r), rj = p.density[j];
+            const double r = std::sqrt(r2), f = test::reference_f(ph.kernel, h, r), rj = p.density[j];
             const bool fj = p.type[j] == ParticleType::fluid;
             // continuity
             const double cont = m * vd * f;
@@ -112,7 +92,7 @@ std::vector<double> cpu_summation(const Scene& s, const Particles& p) {
         for (std::size_t j = 0; j < p.size(); ++j) {
             double r2 = 0;
             for (int k = 0; k < 3; ++k) r2 += (p.position[i][k] - p.position[j][k]) * (p.position[i][k] - p.position[j][k]);
-            const double w = w_of(ph.kernel, h, std::sqrt(r2));
+            const double w = test::reference_w(ph.kernel, h, std::sqrt(r2));
             mw += m * w;
             vw += m / p.density[j] * w;
         }

@@ -2,6 +2,7 @@
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
 #include "device/physics.hpp"
+#include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -16,30 +17,8 @@ using namespace clsph::device;
 
 namespace {
 
-const double kPi = 3.14159265358979323846;
 
 // CPU versions of the kernel functions (double).
-double cpu_w(KernelType k, double h, double r) {
-    const double q = r / h;
-    if (q >= 2) return 0;
-    if (k == KernelType::wendland_c2) {
-        const double t = 1 - q / 2;
-        return 21.0 / (16 * kPi * h * h * h) * t * t * t * t * (2 * q + 1);
-    }
-    const double a = 1 / (kPi * h * h * h);
-    return q < 1 ? a * (1 - 1.5 * q * q + 0.75 * q * q * q) : a * 0.25 * (2 - q) * (2 - q) * (2 - q);
-}
-double cpu_f(KernelType k, double h, double r) {  // (dW/dr) / r
-    const double q = r / h;
-    if (q >= 2 || r <= 0) return 0;
-    if (k == KernelType::wendland_c2) {
-        const double t = 1 - q / 2;
-        return -5 * 21.0 / (16 * kPi * h * h * h) / (h * h) * t * t * t;
-    }
-    const double a = 1 / (kPi * h * h * h);
-    const double dwdq = q < 1 ? (-3 * q + 2.25 * q * q) : (-0.75 * (2 - q) * (2 - q));
-    return a / h * dwdq / r;
-}
 
 Scene small_scene(double dp, KernelType kernel) {
     Scene s;
@@ -119,9 +98,9 @@ TEST_CASE("kernel invariants on every device: sum W = 1, sum grad W = 0, W >= 0"
                     const double r = std::sqrt(double(off[4 * i]) * off[4 * i] + double(off[4 * i + 1]) * off[4 * i + 1] +
                                                double(off[4 * i + 2]) * off[4 * i + 2]);
                     REQUIRE(v[4 * i + 3] >= 0.0f);
-                    CHECK(v[4 * i + 3] == doctest::Approx(cpu_w(kt, h, r)).epsilon(1e-4).scale(cpu_w(kt, h, 0)));
-                    const double gref = cpu_f(kt, h, r) * off[4 * i];
-                    CHECK(v[4 * i] == doctest::Approx(gref).epsilon(1e-4).scale(std::abs(cpu_f(kt, h, 0.5 * h)) * h));
+                    CHECK(v[4 * i + 3] == doctest::Approx(test::reference_w(kt, h, r)).epsilon(1e-4).scale(test::reference_w(kt, h, 0)));
+                    const double gref = test::reference_f(kt, h, r) * off[4 * i];
+                    CHECK(v[4 * i] == doctest::Approx(gref).epsilon(1e-4).scale(std::abs(test::reference_f(kt, h, 0.5 * h)) * h));
                 }
             }
     }

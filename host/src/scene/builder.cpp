@@ -96,9 +96,12 @@ void Scene::validate() const {
     double volume = 0.0;
     for (const auto& f : fluids) volume += (f.max[0] - f.min[0]) * (f.max[1] - f.min[1]) * (f.max[2] - f.min[2]);
     const double estimate = volume / (p.dp * p.dp * p.dp);
-    require(estimate < 1.0e9, "physics.dp",
-            "gives about " + std::to_string(static_cast<long long>(estimate)) +
-                " fluid particles; clsph ids allow at most 1e9");
+    if (!(estimate < 1.0e9)) {
+        std::ostringstream o;
+        o.precision(3);
+        o << "gives about " << estimate << " fluid particles; clsph ids allow at most 1e9";
+        throw SceneError("physics.dp: " + o.str());
+    }
     (void)sound_speed();
 }
 
