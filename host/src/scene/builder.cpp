@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace clsph {
@@ -97,9 +98,9 @@ void Scene::validate() const {
     for (const auto& f : fluids) volume += (f.max[0] - f.min[0]) * (f.max[1] - f.min[1]) * (f.max[2] - f.min[2]);
     const double estimate = volume / (p.dp * p.dp * p.dp);
     if (!(estimate < 1.0e9)) {
-        std::ostringstream o;
-        o.precision(3);
-        o << "gives about " << estimate << " fluid particles; clsph ids allow at most 1e9";
+        std::ostringstream o;  // a plain whole number, however large (an integer cast would overflow)
+        o << std::fixed << std::setprecision(0) << "gives about " << estimate
+          << " fluid particles; clsph ids allow at most 1e9";
         throw SceneError("physics.dp: " + o.str());
     }
     (void)sound_speed();
