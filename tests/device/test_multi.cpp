@@ -1,6 +1,7 @@
 // Several devices against one: the same particles, migration under stress, neighbours across a cut,
 // and the balancer on real devices.
 #include "clsph/simulation.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -16,25 +17,9 @@ namespace {
 
 // A small dam break, boundaries on three sides, split along x.
 Scene small_dam(double dp) {
-    Scene s;
-    const double L = 0.146;
-    s.physics.dp = dp;
-    s.physics.hdp = 1.3;
+    Scene s = test::dam_break_slice(0.146, dp, 3.0, x_min | x_max | z_min);
     s.physics.coefsound = 10;
-    const double depth = 8 * dp;
-    s.domain.min = {-3 * dp, 0, -3 * dp};
-    s.domain.max = {3 * L + 3 * dp, depth, 2.2 * L};
-    s.domain.periodic = {false, true, false};
     s.domain.split_axis = 0;
-    BoxWalls w;
-    w.min = {0, 0, 0};
-    w.max = {3 * L, depth, 2.2 * L};
-    w.faces = x_min | x_max | z_min;
-    s.walls.push_back(w);
-    FluidBlock f;
-    f.min = {0, 0, 0};
-    f.max = {L, depth - 0.5 * dp, 2 * L};
-    s.fluids.push_back(f);
     return s;
 }
 

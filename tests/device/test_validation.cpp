@@ -2,6 +2,7 @@
 // forced blow-up. Long runs use one device (pocl's threaded CPU device in CI).
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -27,29 +28,8 @@ std::array<double, 3> momentum(const Particles& p, double m) {
     return P;
 }
 
-// A 2:1 water column of width L against the wall at x = 0 in a tank 4L long (the front reaches
-// 3.6 L by T = 3), a thin slice periodic in y (8 particles: three kernel supports at h = 1.3 dp).
-// The fluid fills x in [dp, L].
-Scene dam_break(double L, double dp) {
-    Scene s;
-    s.name = "dam break";
-    s.physics.dp = dp;
-    s.physics.hdp = 1.3;
-    const double depth = 8 * dp;
-    s.domain.min = {-3 * dp, 0, -3 * dp};
-    s.domain.max = {4 * L + 3 * dp, depth, 2.2 * L};
-    s.domain.periodic = {false, true, false};
-    BoxWalls w;
-    w.min = {0, 0, 0};
-    w.max = {4 * L, depth, 2.2 * L};
-    w.faces = x_min | z_min;  // the front never reaches x = 4L by T = 3: no wall needed there
-    s.walls.push_back(w);
-    FluidBlock f;
-    f.min = {0, 0, 0};
-    f.max = {L, depth - 0.5 * dp, 2 * L};
-    s.fluids.push_back(f);
-    return s;
-}
+// The validation dam break: a 4L tank (the front reaches 3.6 L by T = 3, so no far wall is needed).
+Scene dam_break(double L, double dp) { return test::dam_break_slice(L, dp, 4.0, x_min | z_min); }
 
 std::vector<std::array<double, 2>> koshizuka_oka() {
     const char* env = std::getenv("CLSPH_DATA_DIR");  // where the build-time path does not exist
