@@ -63,6 +63,20 @@ void Device::read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::si
     check(queue_.enqueueReadBuffer(src.get(), CL_TRUE, offset, bytes, dst), "reading a buffer", label_);
 }
 
+void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done) {
+    if (!bytes) return;
+    cl::Event ev;
+    check(queue_.enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev), "reading a buffer", label_);
+    done.add(*this, std::move(ev));
+}
+
+void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done) {
+    if (!bytes) return;
+    cl::Event ev;
+    check(queue_.enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev), "writing a buffer", label_);
+    done.add(*this, std::move(ev));
+}
+
 void Device::fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes,
                         std::size_t offset) {
     check(clEnqueueFillBuffer(queue_(), dst.get()(), pattern, pattern_size, offset, bytes, 0, nullptr, nullptr),

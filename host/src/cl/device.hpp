@@ -2,6 +2,7 @@
 // cache, its memory accounting, its launch profiler and its quirks. Several Devices (of any vendors)
 // live side by side in one process; nothing here is global.
 #pragma once
+#include "cl/async.hpp"
 #include "cl/cl.hpp"
 #include "cl/memory.hpp"
 #include "cl/profiler.hpp"
@@ -66,6 +67,11 @@ public:
         if (count) fill_bytes(dst, &value, sizeof(T), count * sizeof(T), offset * sizeof(T));
     }
     void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t src_offset = 0, std::size_t dst_offset = 0);
+
+    // Non-blocking transfers (bytes): the event goes into `done`, whose wait() is when the host
+    // memory may be used (read) or reused (write).
+    void read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done);
+    void write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done);
 
 private:
     void write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset);

@@ -88,42 +88,61 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
 
 std::vector<std::size_t> CellPipeline::locate(ParticleStore& ps, std::size_t n_all,
                                               const std::vector<std::uint32_t>& thresholds) {
+    cl_rt::EventSet done;
+    enqueue_locate(ps, n_all, thresholds, done);
+    done.wait("locating keys in the sorted particles");
+    return std::vector<std::size_t>(located_host_.begin(), located_host_.end());
+}
+
+void CellPipeline::enqueue_locate(ParticleStore& ps, std::size_t n_all, const std::vector<std::uint32_t>& thresholds,
+                                  cl_rt::EventSet& done) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
-    std::vector<std::size_t> out(thresholds.size(), 0);
-    if (n == 0 || thresholds.empty()) return out;
+    located_host_.assign(thresholds.size(), 0);
+    if (n == 0 || thresholds.empty()) return;
     const std::size_t t = thresholds.size();
     if (thresholds_.bytes() < t * sizeof(cl_uint)) {
         thresholds_ = d.alloc(t * sizeof(cl_uint), "key thresholds");
         located_ = d.alloc(t * sizeof(cl_uint), "located keys");
     }
-    d.write(thresholds_, thresholds.data(), t);
+    thresholds_host_ = thresholds;
+    d.write_async(thresholds_, thresholds_host_.data(), t * sizeof(cl_uint), 0, done);
     locate_k_.setArg(0, static_cast<cl_uint>(t));
     locate_k_.setArg(1, n);
     locate_k_.setArg(2, ps.keys.get());
     locate_k_.setArg(3, thresholds_.get());
     locate_k_.setArg(4, located_.get());
     d.launch("cells.locate", locate_k_, t, std::min<std::size_t>(wg_, 32));
-    std::vector<cl_uint> at(t);
-    d.read(located_, at.data(), t);
-    for (std::size_t i = 0; i < t; ++i) out[i] = at[i];
-    return out;
+    d.read_async(located_, located_host_.data(), t * sizeof(cl_uint), 0, done);
 }
 
 std::size_t CellPipeline::build_tables(ParticleStore& ps, std::size_t n_valid) {
+    cl_rt::EventSet done;
+    enqueue_count_cells(ps, n_valid, done);
+    done.wait("counting the non-empty cells");
+    return finish_tables(ps, n_valid);
+}
+
+void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n_valid, cl_rt::EventSet& done) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_valid);
-    cells_ = 0;
-    if (n == 0) return 0;
+    cell_count_host_ = 0;
+    if (n == 0) return;
     // Compaction of non-empty cells: flags, scan (in place, n + 1 entries), scatter.
     flag_k_.setArg(0, n);
     flag_k_.setArg(1, ps.keys.get());
     flag_k_.setArg(2, ps.vals.get());
     d.launch("cells.flag", flag_k_, n, wg_);
     scan_.exclusive(ps.vals, ps.vals, n);
-    cl_uint k = 0;
-    d.read(ps.vals, &k, 1, n);
+    d.read_async(ps.vals, &cell_count_host_, sizeof(cl_uint), n * sizeof(cl_uint), done);
+}
 
+std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) {
+    auto& d = device_;
+    const cl_uint n = static_cast<cl_uint>(n_valid);
+    cells_ = 0;
+    if (n == 0) return 0;
+    const cl_uint k = cell_count_host_;
     reserve_cells(k);
     scatter_k_.setArg(0, n);
     scatter_k_.setArg(1, ps.keys.get());

@@ -38,8 +38,16 @@ public:
     // sort_particles in two halves: enqueue the keys, sort and reorder; then (blocking) locate.
     void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end);
     std::vector<std::size_t> locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds);
+    // locate() without blocking: the positions are read into located() once `done` is waited for.
+    void enqueue_locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds,
+                        cl_rt::EventSet& done);
+    const std::vector<std::uint32_t>& located() const { return located_host_; }
     // Cell tables over the sorted, valid particles [0, n); returns the number of non-empty cells.
     std::size_t build_tables(ParticleStore& store, std::size_t n);
+    // build_tables in two halves, for several devices at once: enqueue the flags and their scan with
+    // a read of the cell count into `done`; after the wait, finish_tables enqueues the rest.
+    void enqueue_count_cells(ParticleStore& store, std::size_t n, cl_rt::EventSet& done);
+    std::size_t finish_tables(ParticleStore& store, std::size_t n);
     // Gives particles [first, end) the invalid key (they were handed to another device).
     void mark_invalid(ParticleStore& store, std::size_t first, std::size_t end);
 
@@ -60,6 +68,8 @@ private:
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
+    std::vector<std::uint32_t> thresholds_host_, located_host_;  // stay alive while reads are in flight
+    cl_uint cell_count_host_ = 0;
 };
 
 }  // namespace clsph::device

@@ -119,6 +119,13 @@ void Physics::kick_drift(ParticleStore& ps, double dt) {
 }
 
 KickResult Physics::kick(ParticleStore& ps, double dt) {
+    cl_rt::EventSet done;
+    enqueue_kick(ps, dt, done);
+    done.wait("reading the step's reductions");
+    return kick_result();
+}
+
+void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) {
     const cl_uint none = 0xffffffffu;
     device_.fill(bad_, none, 1);
     kick_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
@@ -133,18 +140,21 @@ KickResult Physics::kick(ParticleStore& ps, double dt) {
     kick_k_.setArg(9, bad_.get());
     device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
     ps.accel.swap(ps.scratch);
-    std::vector<float> part(kick_groups_ * 4);
-    cl_uint bad = none;
-    device_.read(partials_, part.data(), part.size());
-    device_.read(bad_, &bad, 1);
+    partials_host_.assign(kick_groups_ * 4, 0.0f);
+    bad_host_ = none;
+    device_.read_async(partials_, partials_host_.data(), partials_host_.size() * sizeof(float), 0, done);
+    device_.read_async(bad_, &bad_host_, sizeof(cl_uint), 0, done);
+}
+
+KickResult Physics::kick_result() const {
     KickResult r;
     for (std::size_t g = 0; g < kick_groups_; ++g) {
-        r.max_speed2 = std::max(r.max_speed2, static_cast<double>(part[4 * g]));
-        r.max_accel2 = std::max(r.max_accel2, static_cast<double>(part[4 * g + 1]));
-        r.kinetic_energy += part[4 * g + 2];
-        r.fluid += static_cast<std::size_t>(part[4 * g + 3]);
+        r.max_speed2 = std::max(r.max_speed2, static_cast<double>(partials_host_[4 * g]));
+        r.max_accel2 = std::max(r.max_accel2, static_cast<double>(partials_host_[4 * g + 1]));
+        r.kinetic_energy += partials_host_[4 * g + 2];
+        r.fluid += static_cast<std::size_t>(partials_host_[4 * g + 3]);
     }
-    if (bad != none) r.bad_index = bad;
+    if (bad_host_ != 0xffffffffu) r.bad_index = bad_host_;
     return r;
 }
 

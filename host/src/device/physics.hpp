@@ -33,6 +33,10 @@ public:
     // Combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps them so ps.accel
     // holds the new ones. Blocking: reads the reductions back.
     KickResult kick(ParticleStore& ps, double dt);
+    // kick() in two halves, for several devices at once: enqueue (reductions read into `done`), then
+    // after the wait, the result.
+    void enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done);
+    KickResult kick_result() const;
 
     // Per probe point: (sum V W, sum p V W) over fluid neighbours. Blocking.
     std::vector<std::array<float, 2>> probe(ParticleStore& ps, const CellPipeline& cells,
@@ -46,6 +50,8 @@ private:
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
+    std::vector<float> partials_host_;  // read targets of enqueue_kick
+    cl_uint bad_host_ = 0xffffffffu;
 };
 
 }  // namespace clsph::device

@@ -1,7 +1,6 @@
 #include "multi/slab_driver.hpp"
 
 #include "clsph/error.hpp"
-#include "multi/link.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -121,6 +120,7 @@ std::size_t SlabDriver::redistribute() {
     const std::uint32_t invalid = grid_.params().invalid_key;
     std::size_t removed = 0;
     moved_ = 0;
+    moved_bytes_ = 0;
     if (D == 1) {
         Slab& s = slabs_[0];
         auto& ps = *s.store;
@@ -131,106 +131,109 @@ std::size_t SlabDriver::redistribute() {
         s.cells->build_tables(ps, at[0]);
         return removed;
     }
-    // 1. Sort each device's owned particles (stale ghosts dropped); find leavers and edge columns.
-    //    All sorts are enqueued before any result is waited for, so the devices sort together.
-    struct Edges { std::size_t a0 = 0, a1 = 0, nv = 0, h0 = 0, h1 = 0; ParticleBatch leavers, first_col, last_col; };
-    std::vector<Edges> e(D);
+    // Each device e needs the columns [lo, hi): its own [first, end) and one column either side (the
+    // support radius is one column), which belongs to the nearest non-empty neighbour. An empty
+    // device needs nothing.
+    struct Need { std::size_t lo = 0, first = 0, end = 0, hi = 0; };
+    std::vector<Need> need(D);
+    for (std::size_t e = 0; e < D; ++e) {
+        const Slab& s = slabs_[e];
+        if (s.empty()) continue;
+        need[e] = {s.first_col > 0 ? s.first_col - 1 : 0, s.first_col, s.end_col, std::min(s.end_col + 1, columns())};
+    }
+    std::vector<std::uint32_t> thresholds;
+    for (std::size_t e = 0; e < D; ++e)
+        for (std::size_t c : {need[e].lo, need[e].first, need[e].end, need[e].hi}) thresholds.push_back(column_key(c));
+    thresholds.push_back(invalid);
+    // 1. Sort each device's owned particles (stale ghosts dropped): columns ascending, so what every
+    //    device needs from it is one contiguous range. All devices sort at once.
+    cl_rt::EventSet located;
     {
-        PhaseTimer t(phases_, "exchange: sort");
+        PhaseTimer t(phases_, "exchange: sort and locate");
         for (std::size_t d = 0; d < D; ++d) {
             auto& ps = *slabs_[d].store;
             slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
+            slabs_[d].cells->enqueue_locate(ps, ps.ranges.active(), thresholds, located);
         }
+        located.wait("sorting particles before the exchange");
     }
-    {
-        PhaseTimer t(phases_, "exchange: read leavers and edges");
-        for (std::size_t d = 0; d < D; ++d) {
-            Slab& s = slabs_[d];
-            auto& ps = *s.store;
-            const std::size_t owned = ps.ranges.owned;
-            const auto at = s.cells->locate(
-                ps, ps.ranges.active(),
-                {column_key(s.first_col), column_key(s.end_col), invalid, column_key(std::min(s.first_col + 1, s.end_col)),
-                 column_key(s.end_col > s.first_col ? s.end_col - 1 : s.end_col)});
-            Edges& x = e[d];
-            x.a0 = at[0];
-            x.a1 = std::max(at[1], x.a0);
-            x.nv = at[2];
-            x.h0 = std::min(std::max(at[3], x.a0), x.a1);
-            x.h1 = std::min(std::max(at[4], x.a0), x.a1);
-            removed += owned - x.nv;
-            ParticleBatch back;
-            read_range(ps, 0, x.a0, x.leavers);
-            read_range(ps, x.a1, x.nv - x.a1, back);
-            x.leavers.append(back, 0, back.size());
-            // Edge columns only where a neighbour will read them as ghosts.
-            bool left = false, right = false;
-            for (std::size_t l = 0; l < d; ++l) left = left || !slabs_[l].empty();
-            for (std::size_t r = d + 1; r < D; ++r) right = right || !slabs_[r].empty();
-            if (!s.empty() && left) read_range(ps, x.a0, x.h0 - x.a0, x.first_col);
-            if (!s.empty() && right) read_range(ps, x.h1, x.a1 - x.h1, x.last_col);
-        }
+    // at(d, e, k): position in device d's sorted particles of device e's k-th column bound
+    // (0 lo, 1 first, 2 end, 3 hi).
+    auto at = [&](std::size_t d, std::size_t e, int k) -> std::size_t {
+        const auto& l = slabs_[d].cells->located();
+        return l.empty() ? 0 : l[4 * e + static_cast<std::size_t>(k)];
+    };
+    for (std::size_t d = 0; d < D; ++d) {
+        const auto& l = slabs_[d].cells->located();
+        const std::size_t valid = l.empty() ? 0 : l[4 * D];
+        removed += slabs_[d].store->ranges.owned - valid;
     }
-    // 2. Route every leaver to the device owning its column now.
-    std::vector<ParticleBatch> arrivals(D);
-    std::vector<ParticleBatch> incoming(D);
+    // 2. Every device's share of every other device's needs, read into the receiver's pinned inbox:
+    //    [pos | velrho | accel | id] blocks of n_in particles, senders one after the other. Ghosts
+    //    need no acceleration (only owned particles are kicked), so it is read for owned columns only.
+    while (inbox_.size() < D) inbox_.push_back(std::make_unique<cl_rt::PinnedHost>());
+    std::vector<std::size_t> incoming(D, 0), before(D, 0), mine(D, 0), after(D, 0);
     {
-        PhaseTimer t(phases_, "exchange: route on the host");
-        for (std::size_t d = 0; d < D; ++d)
-            for (std::size_t i = 0; i < e[d].leavers.size(); ++i) {
-                arrivals[owner_of(e[d].leavers.key(i))].append(e[d].leavers, i, 1);
-                ++moved_;
+        PhaseTimer t(phases_, "exchange: read to pinned host");
+        cl_rt::EventSet read;
+        for (std::size_t e = 0; e < D; ++e) {
+            for (std::size_t d = 0; d < D; ++d) {
+                before[e] += at(d, e, 1) - at(d, e, 0);
+                mine[e] += at(d, e, 2) - at(d, e, 1);
+                after[e] += at(d, e, 3) - at(d, e, 2);
+                if (d != e) incoming[e] += at(d, e, 3) - at(d, e, 0);
             }
-        // 3. Each device's ghosts: the last column of the nearest non-empty device before it and the
-        //    first column of the nearest one after it, arrivals in those columns included.
-        auto add_edge = [&](ParticleBatch& to, std::size_t owner, bool last) {
-            const ParticleBatch& b = last ? e[owner].last_col : e[owner].first_col;
-            to.append(b, 0, b.size());
-            const std::size_t col = last ? slabs_[owner].end_col - 1 : slabs_[owner].first_col;
-            const auto& arr = arrivals[owner];
-            for (std::size_t i = 0; i < arr.size(); ++i)
-                if (grid_.cell_of_key(arr.key(i))[0] == col) to.append(arr, i, 1);
-        };
-        for (std::size_t d = 0; d < D; ++d) {
-            incoming[d] = arrivals[d];
-            if (slabs_[d].empty()) continue;
-            for (std::size_t l = d; l-- > 0;)
-                if (!slabs_[l].empty()) {
-                    add_edge(incoming[d], l, true);
-                    break;
-                }
-            for (std::size_t r = d + 1; r < D; ++r)
-                if (!slabs_[r].empty()) {
-                    add_edge(incoming[d], r, false);
-                    break;
-                }
+            inbox_[e]->reserve(*slabs_[e].device, incoming[e] * kInboxBytesPerParticle);
         }
+        for (std::size_t e = 0; e < D; ++e) {
+            const std::size_t n = incoming[e];
+            unsigned char* base = inbox_[e]->data();
+            std::size_t o = 0;  // this sender's first particle in the inbox
+            for (std::size_t d = 0; d < D; ++d) {
+                if (d == e) continue;
+                const std::size_t lo = at(d, e, 0), first = at(d, e, 1), end = at(d, e, 2), hi = at(d, e, 3);
+                if (hi == lo) continue;
+                auto& ps = *slabs_[d].store;
+                auto& dev = *slabs_[d].device;
+                const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
+                dev.read_async(ps.pos, base + o * f4, (hi - lo) * f4, lo * f4, read);
+                dev.read_async(ps.velrho, base + n * f4 + o * f4, (hi - lo) * f4, lo * f4, read);
+                dev.read_async(ps.accel, base + 2 * n * f4 + (o + first - lo) * f4, (end - first) * f4, first * f4, read);
+                dev.read_async(ps.id, base + 3 * n * f4 + o * u, (hi - lo) * u, lo * u, read);
+                o += hi - lo;
+                moved_ += hi - lo;
+                moved_bytes_ += (hi - lo) * (2 * f4 + u) + (end - first) * f4;
+            }
+        }
+        read.wait("reading particles for the neighbouring devices");
     }
-    // 4. Leavers out, arrivals and ghosts in, sort again: [ghosts | owned | ghosts].
+    // 3. Each device keeps its own needed range in place, takes the inbox after it and sorts again:
+    //    [ghosts | owned | ghosts]. The tables' cell count and the column profile (the balancer's
+    //    input) are read back together.
     {
-        PhaseTimer t(phases_, "exchange: write arrivals and ghosts");
-        for (std::size_t d = 0; d < D; ++d) {
-            Slab& s = slabs_[d];
+        PhaseTimer t(phases_, "exchange: write and sort again");
+        cl_rt::EventSet counted;
+        for (std::size_t e = 0; e < D; ++e) {
+            Slab& s = slabs_[e];
             auto& ps = *s.store;
-            const Edges& x = e[d];
-            s.cells->mark_invalid(ps, 0, x.a0);
-            s.cells->mark_invalid(ps, x.a1, x.nv);
-            ps.ranges = device::ParticleRanges{0, x.nv, 0};
-            ps.reserve(x.nv + incoming[d].size());
-            write_range(ps, x.nv, incoming[d]);
-            s.cells->enqueue_sort(ps, x.nv + incoming[d].size(), 0, x.nv + incoming[d].size());
+            const std::size_t k0 = at(e, e, 0), k1 = at(e, e, 3), n = incoming[e];
+            ps.ranges = device::ParticleRanges{0, k1, 0};  // what reserve() keeps
+            ps.reserve(k1 + n);
+            const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
+            unsigned char* base = inbox_[e]->data();
+            s.device->write_async(ps.pos, base, n * f4, k1 * f4, counted);
+            s.device->write_async(ps.velrho, base + n * f4, n * f4, k1 * f4, counted);
+            s.device->write_async(ps.accel, base + 2 * n * f4, n * f4, k1 * f4, counted);
+            s.device->write_async(ps.id, base + 3 * n * f4, n * u, k1 * u, counted);
+            s.cells->enqueue_sort(ps, k1 + n, k0, k1 + n);
+            ps.ranges = device::ParticleRanges{before[e], mine[e], after[e]};
+            s.cells->enqueue_count_cells(ps, ps.ranges.active(), counted);
+            std::vector<std::uint32_t> cols;
+            for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
+            s.cells->enqueue_locate(ps, ps.ranges.active(), cols, counted);
         }
-    }
-    {
-        PhaseTimer t(phases_, "exchange: second sort and cell tables");
-        for (std::size_t d = 0; d < D; ++d) {
-            Slab& s = slabs_[d];
-            auto& ps = *s.store;
-            const std::size_t n = e[d].nv + incoming[d].size();
-            const auto at = s.cells->locate(ps, n, {column_key(s.first_col), column_key(s.end_col), invalid});
-            ps.ranges = device::ParticleRanges{at[0], at[1] - at[0], at[2] - at[1]};
-            s.cells->build_tables(ps, at[2]);
-        }
+        counted.wait("sorting particles after the exchange");
+        for (std::size_t e = 0; e < D; ++e) slabs_[e].cells->finish_tables(*slabs_[e].store, slabs_[e].store->ranges.active());
     }
     return removed;
 }
@@ -246,9 +249,11 @@ void SlabDriver::forces() {
 
 StepOutcome SlabDriver::kick(double dt) {
     StepOutcome out;
+    cl_rt::EventSet done;
+    for (auto& s : slabs_) s.physics->enqueue_kick(*s.store, dt, done);
+    done.wait("the second kick");
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
-        Slab& s = slabs_[d];
-        const auto k = s.physics->kick(*s.store, dt);
+        const auto k = slabs_[d].physics->kick_result();
         out.kick.max_speed2 = std::max(out.kick.max_speed2, k.max_speed2);
         out.kick.max_accel2 = std::max(out.kick.max_accel2, k.max_accel2);
         out.kick.kinetic_energy += k.kinetic_energy;
@@ -310,20 +315,19 @@ StepOutcome SlabDriver::step(double dt) {
 
 balance::ColumnProfile SlabDriver::column_profile() {
     // Particles per column: the sorted keys put each column in one contiguous range, so its count
-    // is a difference of two lower bounds (one search per column, no atomics). Boundary particles
-    // never move, so the fluid count is the rest.
+    // is a difference of two lower bounds, located after the exchange's second sort. Boundary
+    // particles never move, so the fluid count is the rest.
     const std::size_t columns = grid_.params().n_s;
     balance::ColumnProfile p;
     p.work.assign(columns, 0.0);
     p.particles.assign(columns, 0);
     for (auto& s : slabs_) {
         if (s.empty()) continue;
-        std::vector<std::uint32_t> thresholds;
-        for (std::size_t c = s.first_col; c <= s.end_col; ++c) thresholds.push_back(column_key(c));
-        const auto at = s.cells->locate(*s.store, s.store->ranges.active(), thresholds);
+        const auto& at = s.cells->located();
+        if (at.size() != s.end_col - s.first_col + 1) continue;
         for (std::size_t c = s.first_col; c < s.end_col; ++c) {
             const std::size_t n = at[c - s.first_col + 1] - at[c - s.first_col];
-            const std::size_t b = std::min(n, boundary_per_column_[c]);
+            const std::size_t b = std::min<std::size_t>(n, boundary_per_column_[c]);
             p.particles[c] = n;
             p.work[c] = balance::column_work(n - b, b);
         }

@@ -64,8 +64,9 @@ public:
     std::vector<std::size_t> cuts() const;
     std::size_t owned() const;
     std::size_t columns() const { return grid_.params().n_s; }
-    // Bytes and particles moved between devices in the last step (host-staged).
+    // Particles (ghosts included) and bytes copied between devices in the last step.
     std::size_t moved_particles() const { return moved_; }
+    std::size_t moved_bytes() const { return moved_bytes_; }
     // Host wall time spent in each phase of the step since the start (where the time goes).
     const std::map<std::string, double>& phase_seconds() const { return phases_; }
 
@@ -85,7 +86,11 @@ private:
     std::unique_ptr<std::ofstream> log_file_;
     std::unique_ptr<balance::BalanceLog> log_;
     std::uint64_t steps_ = 0;
-    std::size_t moved_ = 0;
+    std::size_t moved_ = 0, moved_bytes_ = 0;
+    // Per device: pinned host memory that the other devices' contributions are read into and then
+    // written from (pos, velrho, accel: 16 bytes each; id: 4).
+    static constexpr std::size_t kInboxBytesPerParticle = 52;
+    std::vector<std::unique_ptr<cl_rt::PinnedHost>> inbox_;
     std::map<std::string, double> phases_;
     std::vector<std::size_t> boundary_per_column_;  // boundary particles never move: counted once
 };

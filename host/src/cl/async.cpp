@@ -1,0 +1,112 @@
+#include "cl/async.hpp"
+
+#include "cl/device.hpp"
+#include "cl/errors.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+
+namespace clsph::cl_rt {
+namespace {
+struct WaitState {
+    std::mutex m;
+    std::condition_variable cv;
+    std::size_t left = 0;
+    cl_int worst = CL_SUCCESS;
+    std::size_t failed = 0;  // index of the first event that failed
+};
+
+struct CallbackArg {
+    std::shared_ptr<WaitState> state;
+    std::size_t index;
+};
+
+void CL_CALLBACK on_complete(cl_event, cl_int status, void* user) {
+    std::unique_ptr<CallbackArg> arg(static_cast<CallbackArg*>(user));
+    WaitState& s = *arg->state;
+    std::lock_guard<std::mutex> lock(s.m);
+    if (status < 0 && s.worst == CL_SUCCESS) {
+        s.worst = status;
+        s.failed = arg->index;
+    }
+    if (--s.left == 0) s.cv.notify_all();
+}
+}  // namespace
+
+void EventSet::add(Device& device, cl::Event event) {
+    events_.push_back(std::move(event));
+    devices_.push_back(&device);
+}
+
+void EventSet::wait(const std::string& what) {
+    if (events_.empty()) return;
+    std::vector<Device*> flushed;
+    for (Device* d : devices_) {
+        bool seen = false;
+        for (Device* f : flushed) seen = seen || f == d;
+        if (!seen) {
+            check(d->queue().flush(), what + " (flushing the queue)", d->label());
+            flushed.push_back(d);
+        }
+    }
+    auto state = std::make_shared<WaitState>();
+    state->left = events_.size();
+    for (std::size_t i = 0; i < events_.size(); ++i) {
+        auto* arg = new CallbackArg{state, i};
+        const cl_int err = clSetEventCallback(events_[i](), CL_COMPLETE, &on_complete, arg);
+        if (err != CL_SUCCESS) {
+            // No callback: wait for this one the plain way.
+            delete arg;
+            const cl_int w = clWaitForEvents(1, &events_[i]());
+            std::lock_guard<std::mutex> lock(state->m);
+            if (w != CL_SUCCESS && state->worst == CL_SUCCESS) {
+                state->worst = w;
+                state->failed = i;
+            }
+            --state->left;
+        }
+    }
+    std::unique_lock<std::mutex> lock(state->m);
+    state->cv.wait(lock, [&] { return state->left == 0; });
+    const cl_int worst = state->worst;
+    Device* failed = devices_[state->failed];
+    lock.unlock();
+    events_.clear();
+    devices_.clear();
+    check(worst, what, failed->label());
+}
+
+PinnedHost::~PinnedHost() { release(); }
+
+void PinnedHost::release() {
+    if (data_ && device_) {
+        // Unmapping is enqueued; finishing here keeps the memory valid until the driver is done.
+        // A failure here (a lost device) leaves nothing to recover: the buffer goes anyway.
+        try {
+            device_->queue().enqueueUnmapMemObject(buffer_, data_);
+            device_->queue().finish();
+        } catch (const cl::Error&) {
+        }
+    }
+    data_ = nullptr;
+    bytes_ = 0;
+    buffer_ = cl::Buffer();
+}
+
+bool PinnedHost::reserve(Device& device, std::size_t bytes, double headroom) {
+    if (bytes <= bytes_ && device_ == &device) return false;
+    release();
+    device_ = &device;
+    const std::size_t want = static_cast<std::size_t>(static_cast<double>(std::max<std::size_t>(bytes, 1)) * (1.0 + headroom));
+    guarded("allocating " + std::to_string(want) + " bytes of pinned host memory", device.label(), [&] {
+        buffer_ = cl::Buffer(device.context(), CL_MEM_ALLOC_HOST_PTR | CL_MEM_READ_WRITE, want);
+        data_ = static_cast<unsigned char*>(
+            device.queue().enqueueMapBuffer(buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, want));
+    });
+    bytes_ = want;
+    return true;
+}
+
+}  // namespace clsph::cl_rt
