@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
                     p.size(), p.size() - fluid, fluid);
         std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);
         sim.profile();  // discard set-up launches from the breakdown
+        std::size_t received0 = 0;
+        for (const auto& sh : sim.shares()) received0 += sh.received_bytes;
         const auto t1 = clock::now();
         double steps = 0;
         sim.run_until(until, [&](const clsph::StepInfo& s) {
@@ -63,11 +65,18 @@ int main(int argc, char** argv) {
         double total = 0;
         for (const auto& k : prof) total += k.seconds;
         std::sort(prof.begin(), prof.end(), [](const auto& a, const auto& b) { return a.seconds > b.seconds; });
-        std::printf("| kernel | calls | total ms | ms/step | %% |\n|---|---|---|---|---|\n");
-        for (const auto& k : prof)
-            std::printf("| %s | %zu | %.1f | %.3f | %.1f |\n", k.name.c_str(), k.calls, 1e3 * k.seconds,
-                        1e3 * k.seconds / steps, 100 * k.seconds / total);
-        std::printf("\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
+        const bool several = sim.device_names().size() > 1;
+        std::printf(several ? "| kernel | device | calls | total ms | ms/step | %% |\n|---|---|---|---|---|---|\n"
+                            : "| kernel | calls | total ms | ms/step | %% |\n|---|---|---|---|---|\n");
+        for (const auto& k : prof) {
+            std::printf("| %s |", k.name.c_str());
+            if (several) std::printf(" %s |", k.device.substr(0, k.device.find(' ')).c_str());
+            std::printf(" %zu | %.1f | %.3f | %.1f |\n", k.calls, 1e3 * k.seconds, 1e3 * k.seconds / steps,
+                        100 * k.seconds / total);
+        }
+        if (several) total /= static_cast<double>(sim.device_names().size());
+        std::printf(several ? "\ndevice time in kernels per device (mean): %.2f ms/step of %.2f ms/step wall\n"
+                            : "\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
         const auto shares = sim.shares();
         if (shares.size() > 1) {
             std::printf("\nhost wall time per step phase (ms/step):\n");
@@ -80,6 +89,13 @@ int main(int argc, char** argv) {
                             sh.particles, sh.first_column, sh.end_column, 1e3 * sh.force_seconds);
             }
             std::printf("imbalance of the last step's force passes (max/mean): %.3f\n", tmax / (tsum / double(shares.size())));
+            std::size_t received = 0, ghosts = 0;
+            for (const auto& sh : shares) {
+                received += sh.received_bytes;
+                ghosts += sh.ghosts;
+            }
+            std::printf("copied between devices: %.2f MB/step (ghosts held now: %zu particles)\n",
+                        1e-6 * static_cast<double>(received - received0) / steps, ghosts);
         }
         for (const auto& m : sim.memory())
             std::printf("memory on %s: peak %.1f MiB for %zu particles = %.1f bytes/particle (capacity %zu)\n",

@@ -10,6 +10,7 @@
 #include "multi/slab_driver.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -88,6 +89,18 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.serialize = options.serialize_devices;
     dopt.headroom = options.capacity_headroom;
     dopt.cut_schedule = options.cut_schedule;
+    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_STAGING=sender|receiver,
+    // CLSPH_WAIT=sleep|block.
+    if (const char* v = std::getenv("CLSPH_STAGING")) {
+        dopt.staging = v;
+        if (dopt.staging != "sender" && dopt.staging != "receiver")
+            throw Error(std::string("CLSPH_STAGING: unknown value '") + v + "' (use sender or receiver)");
+    }
+    if (const char* v = std::getenv("CLSPH_WAIT")) {
+        const std::string w = v;
+        if (w != "sleep" && w != "block") throw Error("CLSPH_WAIT: unknown value '" + w + "' (use sleep or block)");
+        dopt.sleep_wait = w == "sleep";
+    }
     m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
     const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
     if (k.kick.bad_index >= 0) m.fail(k);
@@ -157,7 +170,8 @@ std::vector<std::string> Simulation::device_names() const {
 std::vector<DeviceShare> Simulation::shares() const {
     std::vector<DeviceShare> out;
     for (auto& s : impl_->driver->slabs())
-        out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds});
+        out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds,
+                       s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes});
     return out;
 }
 
@@ -204,13 +218,13 @@ std::vector<ProbeSample> Simulation::sample_probes() {
 std::vector<KernelTime> Simulation::profile() {
     std::vector<KernelTime> out;
     for (auto& d : impl_->devices)
-        for (const auto& [name, st] : d->profiler().stats()) out.push_back({name, st.calls, st.seconds});
+        for (const auto& [name, st] : d->profiler().stats()) out.push_back({name, d->label(), st.calls, st.seconds});
     return out;
 }
 
 std::vector<KernelTime> Simulation::host_phases() const {
     std::vector<KernelTime> out;
-    for (const auto& [name, seconds] : impl_->driver->phase_seconds()) out.push_back({name, impl_->info.step, seconds});
+    for (const auto& [name, seconds] : impl_->driver->phase_seconds()) out.push_back({name, {}, impl_->info.step, seconds});
     return out;
 }
 

@@ -32,6 +32,8 @@ struct DeviceShare {
     std::size_t particles = 0;  // owned
     std::size_t first_column = 0, end_column = 0;
     double force_seconds = 0;   // the last step's force pass (several devices)
+    std::size_t ghosts = 0;     // read-only copies of the neighbours' edge columns held now
+    std::size_t received_bytes = 0;  // copied into this device from the others since the start
 };
 
 struct StepInfo {
@@ -54,6 +56,7 @@ struct ProbeSample {
 
 struct KernelTime {
     std::string name;
+    std::string device;  // the device that ran it (empty for host phases)
     std::size_t calls = 0;
     double seconds = 0.0;
 };

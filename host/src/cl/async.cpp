@@ -40,8 +40,22 @@ void EventSet::add(Device& device, cl::Event event) {
     devices_.push_back(&device);
 }
 
-void EventSet::wait(const std::string& what) {
+void EventSet::wait(const std::string& what, bool sleep) {
     if (events_.empty()) return;
+    if (!sleep) {
+        for (std::size_t i = 0; i < events_.size(); ++i) {
+            const cl_int w = clWaitForEvents(1, &events_[i]());
+            if (w != CL_SUCCESS) {
+                Device* failed = devices_[i];
+                events_.clear();
+                devices_.clear();
+                check(w, what, failed->label());
+            }
+        }
+        events_.clear();
+        devices_.clear();
+        return;
+    }
     std::vector<Device*> flushed;
     for (Device* d : devices_) {
         bool seen = false;

@@ -21,7 +21,8 @@ public:
     bool empty() const { return events_.empty(); }
     // Blocks (sleeping) until every event has completed; throws DeviceError naming `what` and the
     // device when a command failed. The set is empty afterwards.
-    void wait(const std::string& what);
+    // sleep = false: clWaitForEvents instead (which may spin).
+    void wait(const std::string& what, bool sleep = true);
 
 private:
     std::vector<cl::Event> events_;

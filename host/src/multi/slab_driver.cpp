@@ -155,7 +155,7 @@ std::size_t SlabDriver::redistribute() {
             slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
             slabs_[d].cells->enqueue_locate(ps, ps.ranges.active(), thresholds, located);
         }
-        located.wait("sorting particles before the exchange");
+        located.wait("sorting particles before the exchange", options_.sleep_wait);
     }
     // at(d, e, k): position in device d's sorted particles of device e's k-th column bound
     // (0 lo, 1 first, 2 end, 3 hi).
@@ -168,46 +168,54 @@ std::size_t SlabDriver::redistribute() {
         const std::size_t valid = l.empty() ? 0 : l[4 * D];
         removed += slabs_[d].store->ranges.owned - valid;
     }
-    // 2. Every device's share of every other device's needs, read into the receiver's pinned inbox:
-    //    [pos | velrho | accel | id] blocks of n_in particles, senders one after the other. Ghosts
-    //    need no acceleration (only owned particles are kicked), so it is read for owned columns only.
-    while (inbox_.size() < D) inbox_.push_back(std::make_unique<cl_rt::PinnedHost>());
-    std::vector<std::size_t> incoming(D, 0), before(D, 0), mine(D, 0), after(D, 0);
+    // 2. Every device's share of every other device's needs, read into pinned host memory as one
+    //    block per (sender, receiver) pair: [pos | velrho | accel | id]. Ghosts need no acceleration
+    //    (only owned particles are kicked), so it is read for the receiver's owned columns only.
+    //    The blocks live in the sender's pinned memory or in the receiver's (options_.staging).
+    struct Segment { std::size_t d, e, lo, first, end, hi; unsigned char* base; };
+    std::vector<Segment> segments;
+    std::vector<std::size_t> incoming(D, 0), before(D, 0), mine(D, 0), after(D, 0), staged(D, 0);
+    const bool at_sender = options_.staging != "receiver";
+    for (std::size_t e = 0; e < D; ++e)
+        for (std::size_t d = 0; d < D; ++d) {
+            before[e] += at(d, e, 1) - at(d, e, 0);
+            mine[e] += at(d, e, 2) - at(d, e, 1);
+            after[e] += at(d, e, 3) - at(d, e, 2);
+            if (d == e || at(d, e, 3) == at(d, e, 0)) continue;
+            segments.push_back({d, e, at(d, e, 0), at(d, e, 1), at(d, e, 2), at(d, e, 3), nullptr});
+            incoming[e] += at(d, e, 3) - at(d, e, 0);
+            staged[at_sender ? d : e] += at(d, e, 3) - at(d, e, 0);
+        }
+    while (staging_.size() < D) staging_.push_back(std::make_unique<cl_rt::PinnedHost>());
+    {
+        std::vector<std::size_t> used(D, 0);
+        for (std::size_t d = 0; d < D; ++d) staging_[d]->reserve(*slabs_[d].device, staged[d] * kStagedBytesPerParticle);
+        for (auto& g : segments) {
+            const std::size_t owner = at_sender ? g.d : g.e;
+            g.base = staging_[owner]->data() + used[owner];
+            used[owner] += (g.hi - g.lo) * kStagedBytesPerParticle;
+        }
+    }
+    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
     {
         PhaseTimer t(phases_, "exchange: read to pinned host");
         cl_rt::EventSet read;
-        for (std::size_t e = 0; e < D; ++e) {
-            for (std::size_t d = 0; d < D; ++d) {
-                before[e] += at(d, e, 1) - at(d, e, 0);
-                mine[e] += at(d, e, 2) - at(d, e, 1);
-                after[e] += at(d, e, 3) - at(d, e, 2);
-                if (d != e) incoming[e] += at(d, e, 3) - at(d, e, 0);
-            }
-            inbox_[e]->reserve(*slabs_[e].device, incoming[e] * kInboxBytesPerParticle);
+        for (const auto& g : segments) {
+            const std::size_t m = g.hi - g.lo;
+            auto& ps = *slabs_[g.d].store;
+            auto& dev = *slabs_[g.d].device;
+            dev.read_async(ps.pos, g.base, m * f4, g.lo * f4, read);
+            dev.read_async(ps.velrho, g.base + m * f4, m * f4, g.lo * f4, read);
+            dev.read_async(ps.accel, g.base + 2 * m * f4 + (g.first - g.lo) * f4, (g.end - g.first) * f4, g.first * f4, read);
+            dev.read_async(ps.id, g.base + 3 * m * f4, m * u, g.lo * u, read);
+            moved_ += m;
+            const std::size_t bytes = m * (2 * f4 + u) + (g.end - g.first) * f4;
+            moved_bytes_ += bytes;
+            slabs_[g.e].received_bytes += bytes;
         }
-        for (std::size_t e = 0; e < D; ++e) {
-            const std::size_t n = incoming[e];
-            unsigned char* base = inbox_[e]->data();
-            std::size_t o = 0;  // this sender's first particle in the inbox
-            for (std::size_t d = 0; d < D; ++d) {
-                if (d == e) continue;
-                const std::size_t lo = at(d, e, 0), first = at(d, e, 1), end = at(d, e, 2), hi = at(d, e, 3);
-                if (hi == lo) continue;
-                auto& ps = *slabs_[d].store;
-                auto& dev = *slabs_[d].device;
-                const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
-                dev.read_async(ps.pos, base + o * f4, (hi - lo) * f4, lo * f4, read);
-                dev.read_async(ps.velrho, base + n * f4 + o * f4, (hi - lo) * f4, lo * f4, read);
-                dev.read_async(ps.accel, base + 2 * n * f4 + (o + first - lo) * f4, (end - first) * f4, first * f4, read);
-                dev.read_async(ps.id, base + 3 * n * f4 + o * u, (hi - lo) * u, lo * u, read);
-                o += hi - lo;
-                moved_ += hi - lo;
-                moved_bytes_ += (hi - lo) * (2 * f4 + u) + (end - first) * f4;
-            }
-        }
-        read.wait("reading particles for the neighbouring devices");
+        read.wait("reading particles for the neighbouring devices", options_.sleep_wait);
     }
-    // 3. Each device keeps its own needed range in place, takes the inbox after it and sorts again:
+    // 3. Each device keeps its own needed range in place, takes the blocks after it and sorts again:
     //    [ghosts | owned | ghosts]. The tables' cell count and the column profile (the balancer's
     //    input) are read back together.
     {
@@ -219,12 +227,16 @@ std::size_t SlabDriver::redistribute() {
             const std::size_t k0 = at(e, e, 0), k1 = at(e, e, 3), n = incoming[e];
             ps.ranges = device::ParticleRanges{0, k1, 0};  // what reserve() keeps
             ps.reserve(k1 + n);
-            const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
-            unsigned char* base = inbox_[e]->data();
-            s.device->write_async(ps.pos, base, n * f4, k1 * f4, counted);
-            s.device->write_async(ps.velrho, base + n * f4, n * f4, k1 * f4, counted);
-            s.device->write_async(ps.accel, base + 2 * n * f4, n * f4, k1 * f4, counted);
-            s.device->write_async(ps.id, base + 3 * n * f4, n * u, k1 * u, counted);
+            std::size_t to = k1;
+            for (const auto& g : segments) {
+                if (g.e != e) continue;
+                const std::size_t m = g.hi - g.lo;
+                s.device->write_async(ps.pos, g.base, m * f4, to * f4, counted);
+                s.device->write_async(ps.velrho, g.base + m * f4, m * f4, to * f4, counted);
+                s.device->write_async(ps.accel, g.base + 2 * m * f4, m * f4, to * f4, counted);
+                s.device->write_async(ps.id, g.base + 3 * m * f4, m * u, to * u, counted);
+                to += m;
+            }
             s.cells->enqueue_sort(ps, k1 + n, k0, k1 + n);
             ps.ranges = device::ParticleRanges{before[e], mine[e], after[e]};
             s.cells->enqueue_count_cells(ps, ps.ranges.active(), counted);
@@ -232,7 +244,7 @@ std::size_t SlabDriver::redistribute() {
             for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
             s.cells->enqueue_locate(ps, ps.ranges.active(), cols, counted);
         }
-        counted.wait("sorting particles after the exchange");
+        counted.wait("sorting particles after the exchange", options_.sleep_wait);
         for (std::size_t e = 0; e < D; ++e) slabs_[e].cells->finish_tables(*slabs_[e].store, slabs_[e].store->ranges.active());
     }
     return removed;
@@ -251,7 +263,7 @@ StepOutcome SlabDriver::kick(double dt) {
     StepOutcome out;
     cl_rt::EventSet done;
     for (auto& s : slabs_) s.physics->enqueue_kick(*s.store, dt, done);
-    done.wait("the second kick");
+    done.wait("the second kick", options_.sleep_wait);
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
         const auto k = slabs_[d].physics->kick_result();
         out.kick.max_speed2 = std::max(out.kick.max_speed2, k.max_speed2);

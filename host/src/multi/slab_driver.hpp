@@ -30,6 +30,8 @@ struct DriverOptions {
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
     bool serialize = false;           // tests: one device's force pass at a time
     double headroom = 0.25;
+    std::string staging = "sender";   // whose pinned memory transfers are staged in: sender | receiver
+    bool sleep_wait = true;           // wait for devices on event callbacks (false: clWaitForEvents)
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
 };
 
@@ -40,6 +42,7 @@ struct Slab {
     std::unique_ptr<device::Physics> physics;
     std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
     double force_seconds = 0;                // last step's force pass time (the balancer's input)
+    std::size_t received_bytes = 0;         // copied in from other devices since the start
     bool empty() const { return first_col >= end_col; }
 };
 
@@ -87,10 +90,10 @@ private:
     std::unique_ptr<balance::BalanceLog> log_;
     std::uint64_t steps_ = 0;
     std::size_t moved_ = 0, moved_bytes_ = 0;
-    // Per device: pinned host memory that the other devices' contributions are read into and then
-    // written from (pos, velrho, accel: 16 bytes each; id: 4).
-    static constexpr std::size_t kInboxBytesPerParticle = 52;
-    std::vector<std::unique_ptr<cl_rt::PinnedHost>> inbox_;
+    // Per device: pinned host memory that particles going between devices are staged in
+    // (pos, velrho, accel: 16 bytes each; id: 4).
+    static constexpr std::size_t kStagedBytesPerParticle = 52;
+    std::vector<std::unique_ptr<cl_rt::PinnedHost>> staging_;
     std::map<std::string, double> phases_;
     std::vector<std::size_t> boundary_per_column_;  // boundary particles never move: counted once
 };
