@@ -90,7 +90,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.headroom = options.capacity_headroom;
     dopt.cut_schedule = options.cut_schedule;
     // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_STAGING=sender|receiver,
-    // CLSPH_WAIT=sleep|block.
+    // CLSPH_WAIT=sleep|block (sleep: event callbacks where the driver delivers them on time).
     if (const char* v = std::getenv("CLSPH_STAGING")) {
         dopt.staging = v;
         if (dopt.staging != "sender" && dopt.staging != "receiver")

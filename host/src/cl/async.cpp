@@ -42,6 +42,7 @@ void EventSet::add(Device& device, cl::Event event) {
 
 void EventSet::wait(const std::string& what, bool sleep) {
     if (events_.empty()) return;
+    for (Device* d : devices_) sleep = sleep && !d->quirks().late_transfer_callbacks;
     if (!sleep) {
         for (std::size_t i = 0; i < events_.size(); ++i) {
             const cl_int w = clWaitForEvents(1, &events_[i]());

@@ -19,9 +19,10 @@ class EventSet {
 public:
     void add(Device& device, cl::Event event);
     bool empty() const { return events_.empty(); }
-    // Blocks (sleeping) until every event has completed; throws DeviceError naming `what` and the
-    // device when a command failed. The set is empty afterwards.
-    // sleep = false: clWaitForEvents instead (which may spin).
+    // Blocks until every event has completed; throws DeviceError naming `what` and the device when
+    // a command failed. The set is empty afterwards. It sleeps on the events' callbacks unless
+    // `sleep` is false or a device has late callbacks (Quirks::late_transfer_callbacks), where it
+    // waits with clWaitForEvents.
     void wait(const std::string& what, bool sleep = true);
 
 private:

@@ -53,6 +53,8 @@ void Device::launch(const std::string& name, cl::Kernel& kernel, std::size_t glo
     if (profiler_.enabled()) profiler_.add_event(name, std::move(ev));
 }
 
+void Device::flush() { check(queue_.flush(), "submitting the queue", label_); }
+
 void Device::finish() { check(queue_.finish(), "waiting for the queue", label_); }
 
 void Device::write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset) {

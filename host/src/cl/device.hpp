@@ -52,6 +52,7 @@ public:
     std::size_t work_group_size(std::size_t cap = 256) const;
 
     void finish();
+    void flush();  // submits what is enqueued so the device starts on it
 
     // Typed upload/download helpers (blocking). Sizes in elements of T.
     template <class T>

@@ -33,6 +33,12 @@ struct Quirks {
     // 36 us (1 KiB) to 9.8 ms (256 MiB) (clsph-bench-transfer; BENCHMARKS.md). Where set, move data
     // between devices by staging, with one context per device, never by shared-context copies.
     bool shared_context_copies_stall = false;
+    // NVIDIA's OpenCL (driver 580.159.04, H200): completion callbacks of transfer events (reads into
+    // pinned host memory) arrive ~10 ms after the copy is done. On two H200s with 21 M particles the
+    // exchange's read phase took 11.0 ms/step waiting on callbacks and 0.2 ms with clWaitForEvents
+    // (36.95 vs 48.82 ms/step; BENCHMARKS.md). Where set, EventSet waits with clWaitForEvents, a
+    // spinning wait, but the one that is on time.
+    bool late_transfer_callbacks = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);

@@ -13,7 +13,12 @@ class PhaseTimer {
 public:
     PhaseTimer(std::map<std::string, double>& phases, const char* name)
         : phases_(phases), name_(name), start_(std::chrono::steady_clock::now()) {}
-    ~PhaseTimer() { phases_[name_] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+    ~PhaseTimer() { stop(); }
+    void stop() {
+        if (stopped_) return;
+        stopped_ = true;
+        phases_[name_] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
     PhaseTimer(const PhaseTimer&) = delete;
     PhaseTimer& operator=(const PhaseTimer&) = delete;
 
@@ -21,6 +26,7 @@ private:
     std::map<std::string, double>& phases_;
     const char* name_;
     std::chrono::steady_clock::time_point start_;
+    bool stopped_ = false;
 };
 
 balance::Mode mode_of(const std::string& m) {
@@ -134,6 +140,24 @@ std::size_t SlabDriver::redistribute() {
     // Each device e needs the columns [lo, hi): its own [first, end) and one column either side (the
     // support radius is one column), which belongs to the nearest non-empty neighbour. An empty
     // device needs nothing.
+    // 1. Sort each device's owned particles (stale ghosts dropped): columns ascending, so what every
+    //    device needs from it is one contiguous range. All devices sort at once, while the balancer
+    //    moves the cuts from the last step's force times.
+    cl_rt::EventSet located;
+    PhaseTimer t1(phases_, "exchange: sort and locate");
+    for (std::size_t d = 0; d < D; ++d) {
+        auto& ps = *slabs_[d].store;
+        slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
+        slabs_[d].device->flush();
+    }
+    if (rebalance_due_) {
+        PhaseTimer t(phases_, "balance (while sorting)");
+        rebalance(steps_);
+        rebalance_due_ = false;
+    }
+    // Each device e needs the columns [lo, hi): its own [first, end) and one column either side (the
+    // support radius is one column), which belongs to the nearest non-empty neighbour. An empty
+    // device needs nothing.
     struct Need { std::size_t lo = 0, first = 0, end = 0, hi = 0; };
     std::vector<Need> need(D);
     for (std::size_t e = 0; e < D; ++e) {
@@ -145,18 +169,12 @@ std::size_t SlabDriver::redistribute() {
     for (std::size_t e = 0; e < D; ++e)
         for (std::size_t c : {need[e].lo, need[e].first, need[e].end, need[e].hi}) thresholds.push_back(column_key(c));
     thresholds.push_back(invalid);
-    // 1. Sort each device's owned particles (stale ghosts dropped): columns ascending, so what every
-    //    device needs from it is one contiguous range. All devices sort at once.
-    cl_rt::EventSet located;
-    {
-        PhaseTimer t(phases_, "exchange: sort and locate");
-        for (std::size_t d = 0; d < D; ++d) {
-            auto& ps = *slabs_[d].store;
-            slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
-            slabs_[d].cells->enqueue_locate(ps, ps.ranges.active(), thresholds, located);
-        }
-        located.wait("sorting particles before the exchange", options_.sleep_wait);
+    for (std::size_t d = 0; d < D; ++d) {
+        auto& ps = *slabs_[d].store;
+        slabs_[d].cells->enqueue_locate(ps, ps.ranges.active(), thresholds, located);
     }
+    located.wait("sorting particles before the exchange", options_.sleep_wait);
+    t1.stop();
     // at(d, e, k): position in device d's sorted particles of device e's k-th column bound
     // (0 lo, 1 first, 2 end, 3 hi).
     auto at = [&](std::size_t d, std::size_t e, int k) -> std::size_t {
@@ -319,8 +337,7 @@ StepOutcome SlabDriver::step(double dt) {
             auto it = st.find("sph.forces");
             slabs_[d].force_seconds = (it == st.end() ? 0.0 : it->second.seconds) - before[d];
         }
-        PhaseTimer t(phases_, "balance");
-        if (!options_.cut_schedule) rebalance(steps_);
+        rebalance_due_ = !options_.cut_schedule;  // at the next step's sort
     }
     return out;
 }

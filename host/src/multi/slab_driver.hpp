@@ -89,6 +89,7 @@ private:
     std::unique_ptr<std::ofstream> log_file_;
     std::unique_ptr<balance::BalanceLog> log_;
     std::uint64_t steps_ = 0;
+    bool rebalance_due_ = false;  // the balancer runs at the next step's first sort
     std::size_t moved_ = 0, moved_bytes_ = 0;
     // Per device: pinned host memory that particles going between devices are staged in
     // (pos, velrho, accel: 16 bytes each; id: 4).
