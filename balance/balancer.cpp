@@ -19,7 +19,7 @@ std::string_view to_string(Reason reason) {
 
 Balancer::Balancer(std::size_t devices, std::size_t columns, Options options)
     : columns_(columns), options_(options), models_(devices, TimeModel(options.model)),
-      capacity_(devices, 0), cuts_(equal_width_cuts(devices, columns)) {}
+      capacity_(devices, 0), cuts_(equal_width_cuts(devices, columns)), calibrated_(devices, false) {}
 
 void Balancer::check_profile(const ColumnProfile& profile) const {
   if (profile.work.size() != columns_ || profile.particles.size() != columns_)
@@ -37,12 +37,24 @@ std::vector<std::size_t> Balancer::initial_cuts(const ColumnProfile& profile,
   cuts_ = equal_width_cuts(models_.size(), columns_);
   if (options_.mode == Mode::off) return cuts_;
 
-  // Before any measurement every device is assumed equally fast: equal work.
-  std::vector<SlabCost> equal(models_.size());
-  for (std::size_t d = 0; d < equal.size(); ++d) equal[d] = {0.0, 1.0, capacity_[d], options_.allow_idle};
-  const Plan plan = place_cuts(equal, ColumnSums(profile), options_.min_columns, cuts_);
+  // Before any measurement, calibrated models where every device has one; otherwise every device
+  // is assumed equally fast: equal work (and nobody idles on a guess).
+  bool all_calibrated = true;
+  for (bool c : calibrated_) all_calibrated = all_calibrated && c;
+  std::vector<SlabCost> costs(models_.size());
+  if (all_calibrated) {
+    costs = slab_costs();
+  } else {
+    for (std::size_t d = 0; d < costs.size(); ++d) costs[d] = {0.0, 1.0, capacity_[d], false};
+  }
+  const Plan plan = place_cuts(costs, ColumnSums(profile), options_.min_columns, cuts_);
   if (plan.feasible) cuts_ = plan.cuts;
   return cuts_;
+}
+
+void Balancer::calibrate(std::size_t device, double fixed_seconds, double seconds_per_unit) {
+  models_.at(device).set_prior(fixed_seconds, seconds_per_unit);
+  calibrated_.at(device) = true;
 }
 
 std::vector<SlabCost> Balancer::slab_costs() const {
@@ -58,7 +70,7 @@ std::vector<SlabCost> Balancer::slab_costs() const {
   for (std::size_t d = 0; d < models_.size(); ++d) {
     const TimeModel& model = models_[d];
     costs[d].capacity_particles = capacity_[d];
-    costs[d].may_idle = options_.allow_idle;
+    costs[d].may_idle = options_.allow_idle && (calibrated_[d] || model.samples() >= options_.idle_min_samples);
     costs[d].fixed_seconds = model.ready() ? model.fixed() : fixed_sum / static_cast<double>(known);
     costs[d].seconds_per_unit =
         model.ready() ? model.per_unit() : per_unit_sum / static_cast<double>(known);

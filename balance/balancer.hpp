@@ -47,8 +47,13 @@ class Balancer {
  public:
   Balancer(std::size_t devices, std::size_t columns, Options options = {});
 
-  // Cuts before any step: equal work per device (dynamic, static) or equal widths (off),
-  // respecting the minimum width and the capacities (one per device, or empty for unlimited).
+  // A calibration run's result for one device (its step time = fixed + per_unit * work), measured
+  // before the first step: it seeds the device's model, and once every device has one the first
+  // cut follows it instead of assuming equal speeds.
+  void calibrate(std::size_t device, double fixed_seconds, double seconds_per_unit);
+  // Cuts before any step: by the calibrated models where every device has one (dynamic, static),
+  // otherwise equal work per device (dynamic, static) or equal widths (off), respecting the
+  // minimum width and the capacities (one per device, or empty for unlimited).
   std::vector<std::size_t> initial_cuts(const ColumnProfile& profile,
                                         const std::vector<std::size_t>& capacity_particles = {});
 
@@ -72,6 +77,7 @@ class Balancer {
   std::vector<TimeModel> models_;
   std::vector<std::size_t> capacity_;
   std::vector<std::size_t> cuts_;
+  std::vector<bool> calibrated_;
 };
 
 }  // namespace clsph::balance

@@ -44,9 +44,12 @@ struct Options {
   // columns). A device may still be left idle, with no column at all.
   std::size_t min_columns = 1;
   // Whether the best plan may leave a device with no column at all. An idle device is not measured
-  // any more, so its model cannot notice that it would now help: engines that cannot afford that
-  // (noisy, short steps) turn this off.
+  // any more, so its model cannot notice that it would now help; one noisy step must therefore not
+  // idle a device: only a device whose model rests on a calibration (Balancer::calibrate) or on at
+  // least idle_min_samples measured steps may be idled. Engines that cannot afford idling at all
+  // turn this off.
   bool allow_idle = true;
+  std::size_t idle_min_samples = 8;
   // Cuts move only when the best plan would lower the predicted step time (the slowest device), or
   // the predicted imbalance, by at least this fraction: a move costs a migration, and jitter must
   // not make cuts wander. 1.5 % is about four standard errors of a prediction at the defaults.

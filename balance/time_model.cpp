@@ -39,8 +39,19 @@ std::optional<double> TimeModel::surprise(const Sample& sample) const {
   auto [lo, hi] = std::minmax_element(window_.begin(), window_.end(),
                                       [](const Sample& a, const Sample& b) { return a.work < b.work; });
   if (sample.work < lo->work * (1.0 - seen_work_margin) ||
-      sample.work > hi->work * (1.0 + seen_work_margin))
-    return std::nullopt;
+      sample.work > hi->work * (1.0 + seen_work_margin)) {
+    // Outside what the window has seen a miss may be a wrong fixed/per-unit split, which the refit
+    // learns. But no split makes the time change by more than the work does: from the nearest seen
+    // sample, time scales between 1 (all fixed) and work / seen work (all per-unit). A sample
+    // outside that range (widened by the threshold) is a surprise here too, so a first-step
+    // hiccup cannot become the model that idles a device.
+    const Sample& near = sample.work < lo->work ? *lo : *hi;
+    const double ratio = sample.work / near.work;
+    const double low = near.seconds * std::min(1.0, ratio) * (1.0 - options_.change_threshold);
+    const double high = near.seconds * std::max(1.0, ratio) * (1.0 + options_.change_threshold);
+    if (sample.seconds >= low && sample.seconds <= high) return std::nullopt;
+    return sample.seconds / predict(sample.work) - 1.0;
+  }
   const double error = sample.seconds / predict(sample.work) - 1.0;
   if (std::abs(error) <= options_.change_threshold) return std::nullopt;
   return error;
