@@ -48,6 +48,18 @@ int main(int argc, char** argv) {
         std::printf("particles: %zu (boundary %zu, fluid %zu); reference at dp 0.006: 4,989,696 (1,975,146 + 3,014,550)\n",
                     p.size(), p.size() - fluid, fluid);
         std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);
+        for (const auto& sh : sim.shares())
+            if (sh.calibrated_whole_scene_seconds > 0)
+                std::printf("calibration of %s: %.2f ms per force pass over the whole scene (fixed %.3f ms)\n",
+                            sh.device.c_str(), 1e3 * sh.calibrated_whole_scene_seconds, 1e3 * sh.calibrated_fixed_seconds);
+        {
+            const auto sh = sim.shares();
+            if (sh.size() > 1) {
+                std::printf("first cut:");
+                for (const auto& x : sh) std::printf(" [%zu, %zu)", x.first_column, x.end_column);
+                std::printf("\n");
+            }
+        }
         sim.profile();  // discard set-up launches from the breakdown
         std::size_t received0 = 0;
         for (const auto& sh : sim.shares()) received0 += sh.received_bytes;

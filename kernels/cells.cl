@@ -27,14 +27,21 @@ inline bool settle_axis(float* offset, uint* cell, const float cell_size, const 
 // invalid_key, so the sort moves it to the end where it is removed and counted.
 // Particles outside [keep_first, keep_end) are being dropped (stale ghosts, particles that moved to
 // another device): they get invalid_key too, without touching their data.
-__kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end, const GridParams g,
-                        __global float4* pos, __global uint* keys, __global uint* vals) {
+// Several devices, one sort per step: particles from tail_first on (arrivals) are all kept, and a
+// particle in [keep_first, keep_end) only while its key lies in [key_lo, key_hi) (the columns this
+// device needs); one device: tail_first = n, [key_lo, key_hi) = [0, invalid_key).
+__kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end, const uint tail_first,
+                        const uint key_lo, const uint key_hi, const uint settle, const GridParams g, __global float4* pos,
+                        __global uint* keys, __global uint* vals) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     float4 p = pos[i];
     uint key = pos_key(p);
-    if (i < keep_first || i >= keep_end) {
+    if ((i < keep_first || i >= keep_end) && i < tail_first) {
         key = g.invalid_key;
+    } else if (key != g.invalid_key && !settle) {
+        // Settled already (settle_owned, or by the device that sent it).
+        if (i < tail_first && (key < key_lo || key >= key_hi)) key = g.invalid_key;
     } else if (key != g.invalid_key) {
         uint s = key_s(g, key), a = key_a(g, key), b = key_b(g, key);
         float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
@@ -47,9 +54,66 @@ __kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end
         B_OF(p) = ob;
         p.w = as_float(key);
         pos[i] = p;
+        if (i < tail_first && (key < key_lo || key >= key_hi)) key = g.invalid_key;  // not needed here
     }
     keys[i] = key;
     vals[i] = i;
+}
+
+// Several devices, before the exchange: the owned particles' drifted positions settled into their
+// cells (new key in pos.w, nothing sorted). counters[0] counts particles that left the domain,
+// counters[1] those that moved more than one column (the exchange then cannot trust that a column
+// holds only particles from its old neighbours, and sorts first), counters[2] those now in
+// [key_lo, key_hi) (the columns this device keeps).
+__kernel void settle_owned(const uint first, const uint end, const uint key_lo, const uint key_hi, const GridParams g,
+                           __global float4* pos, __global uint* counters) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= end) return;
+    float4 p = pos[i];
+    const uint old = pos_key(p);
+    if (old == g.invalid_key) return;
+    uint s = key_s(g, old), a = key_a(g, old), b = key_b(g, old);
+    float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
+    const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
+                        settle_axis(&oa, &a, g.cell_a, g.n_a, g.ext_a, g.periodic_a) &&
+                        settle_axis(&ob, &b, g.cell_b, g.n_b, g.ext_b, 0u);
+    const uint key = inside ? make_key(g, s, a, b) : g.invalid_key;
+    S_OF(p) = os;
+    A_OF(p) = oa;
+    B_OF(p) = ob;
+    p.w = as_float(key);
+    pos[i] = p;
+    if (!inside) atomic_inc(&counters[0]);
+    else if (abs((int)s - (int)key_s(g, old)) > 1) atomic_inc(&counters[1]);
+    if (inside && key >= key_lo && key < key_hi) atomic_inc(&counters[2]);
+}
+
+// flags[i - first] = 1 for particles of [first, end) whose key lies in [key_lo, key_hi).
+__kernel void flag_key_range(const uint first, const uint end, const uint key_lo, const uint key_hi,
+                             __global const float4* pos, __global uint* flags) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= end) return;
+    const uint key = pos_key(pos[i]);
+    flags[i - first] = key >= key_lo && key < key_hi;
+}
+
+// The flagged particles (after the exclusive scan of the flags: their rank) copied, in order, to
+// out_*[base + rank]: a packed block that is then read to the host in four transfers.
+__kernel void gather_key_range(const uint first, const uint end, const uint key_lo, const uint key_hi,
+                               const uint base, __global const uint* rank, __global const float4* pos,
+                               __global const float4* velrho, __global const float4* accel, __global const uint* id,
+                               __global float4* out_pos, __global float4* out_velrho, __global float4* out_accel,
+                               __global uint* out_id) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= end) return;
+    const float4 p = pos[i];
+    const uint key = pos_key(p);
+    if (key < key_lo || key >= key_hi) return;
+    const uint o = base + rank[i - first];
+    out_pos[o] = p;
+    out_velrho[o] = velrho[i];
+    out_accel[o] = accel[i];
+    out_id[o] = id[i];
 }
 
 // dst[i] = src[order[i]]: one particle array into sorted order (through the rotating scratch).

@@ -2,6 +2,9 @@
 
 #include <clsph/error.hpp>
 
+#include <cstdlib>
+#include <sstream>
+
 namespace clsph::app {
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args) {
@@ -11,6 +14,18 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     opts.coarse = args.coarse;
     opts.balance = args.balance;
     opts.balance_log = args.balance_log;
+    // Test hook (tests/cli): CLSPH_TEST_DEVICE_FAILURE=STEP[:DEVICE] simulates a device failing
+    // when that step starts, to exercise the mid-run error path end to end.
+    if (const char* v = std::getenv("CLSPH_TEST_DEVICE_FAILURE")) {
+        const std::string text = v;
+        std::size_t step = 0, device = 0;
+        char colon = 0;
+        std::istringstream in(text);
+        if (!(in >> step) || step == 0 || (in >> colon && (colon != ':' || !(in >> device))) || !in.eof())
+            throw Error("CLSPH_TEST_DEVICE_FAILURE: expected STEP or STEP:DEVICE (STEP >= 1), got '" + text + "'");
+        opts.fail_at_step = step;
+        opts.fail_device = device;
+    }
     try {
         return std::make_unique<Simulation>(scene, opts);
     } catch (const SceneError& e) {

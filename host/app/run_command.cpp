@@ -89,6 +89,14 @@ public:
             message = e.what();
             code = exit_simulation_failed;
             write_last_good();
+        } catch (const DeviceError& e) {
+            // A device failed mid-run (lost, out of resources): its state is gone; the last frame
+            // downloaded is written as the last good state.
+            progress_.clear();
+            totals_.outcome = "device failed";
+            message = e.what();
+            code = exit_device_failed;
+            write_last_good();
         } catch (const Error& e) {
             // A writer or I/O error: say so in run.json, then report it as any other error.
             progress_.clear();
@@ -100,7 +108,8 @@ public:
         }
         progress_.clear();
         // A final frame where the run stopped off the frame grid (Ctrl-C, --steps, --until).
-        if (code != exit_simulation_failed && frames_.last_time() < sim_.time() - eps)
+        const bool failed = code == exit_simulation_failed || code == exit_device_failed;
+        if (!failed && frames_.last_time() < sim_.time() - eps)
             frames_.submit(sim_.time(), sim_.particles());
         frames_.finish();
         totals_.loop_seconds = seconds_since(start);
@@ -118,8 +127,8 @@ public:
                                       std::to_string(d.first_column) + ", " + std::to_string(d.end_column) + ")");
         }
         print_summary(std::cout, totals_);
-        if (args_.profile) print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
-        if (code == exit_simulation_failed) {
+        if (args_.profile && code != exit_device_failed) print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
+        if (failed) {
             std::cout.flush();  // the error is the last thing said
             std::cerr << "clsph: error: " << message << "\nclsph: the last good state is in " << plan_.out_dir
                       << "/last_good.vtu\n";

@@ -89,12 +89,20 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.serialize = options.serialize_devices;
     dopt.headroom = options.capacity_headroom;
     dopt.cut_schedule = options.cut_schedule;
-    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_STAGING=sender|receiver,
+    dopt.fail_at_step = options.fail_at_step;
+    dopt.fail_device = options.fail_device;
+    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=window|sort (one sort
+    // per step, or sort / exchange / sort again), CLSPH_STAGING=sender|receiver,
     // CLSPH_WAIT=sleep|block (sleep: event callbacks where the driver delivers them on time).
     if (const char* v = std::getenv("CLSPH_STAGING")) {
         dopt.staging = v;
         if (dopt.staging != "sender" && dopt.staging != "receiver")
             throw Error(std::string("CLSPH_STAGING: unknown value '") + v + "' (use sender or receiver)");
+    }
+    if (const char* v = std::getenv("CLSPH_EXCHANGE")) {
+        dopt.exchange = v;
+        if (dopt.exchange != "window" && dopt.exchange != "sort")
+            throw Error(std::string("CLSPH_EXCHANGE: unknown value '") + v + "' (use window or sort)");
     }
     if (const char* v = std::getenv("CLSPH_WAIT")) {
         const std::string w = v;
@@ -119,7 +127,16 @@ Simulation::~Simulation() = default;
 const StepInfo& Simulation::step() {
     auto& m = *impl_;
     const double dt = m.dt_next;
-    const auto k = m.driver->step(dt);
+    multi::StepOutcome k;
+    try {
+        k = m.driver->step(dt);
+    } catch (const DeviceError& e) {
+        // A device failed mid-step: the device state is lost, the last good state is on the host.
+        std::ostringstream o;
+        o << "step " << m.info.step + 1 << ", t = " << m.info.time + dt << " s: " << e.what()
+          << ". The run stopped; the last good state is at t = " << m.last_good_time << " s.";
+        throw DeviceError(e.code(), o.str());
+    }
     if (k.kick.bad_index >= 0) m.fail(k);
     m.info.step += 1;
     m.info.time += dt;
@@ -171,7 +188,8 @@ std::vector<DeviceShare> Simulation::shares() const {
     std::vector<DeviceShare> out;
     for (auto& s : impl_->driver->slabs())
         out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds,
-                       s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes});
+                       s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes,
+                       s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed});
     return out;
 }
 

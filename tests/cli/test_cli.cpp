@@ -4,6 +4,8 @@
 
 #include <clsph/io.hpp>
 #include <doctest/doctest.h>
+
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -202,6 +204,37 @@ TEST_CASE("a blow-up: exit 2, the error named, the last good state written") {
     CHECK(j.at("message").get<std::string>().find("outside the allowed band") != std::string::npos);
     CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
     CHECK(clsph::read_pvd(out + "/dam_break.pvd").size() >= 1);
+}
+
+TEST_CASE("a device failing mid-run: exit 3, device and step named, the last good state written") {
+    const std::string out = work_dir("device_failure");
+    std::string log;
+    // Two devices where there are two (pocl basic + pthread in CI), the second failing at step 7;
+    // frames every 0.001 s so a frame was downloaded before the failure.
+    ::setenv("CLSPH_TEST_DEVICE_FAILURE", "7:1", 1);
+    const int code = run(args({{"run", scene}, tiny, {"--devices", "all", "--until", "0.01", "--every", "0.0005", "--out", out}}), log);
+    ::unsetenv("CLSPH_TEST_DEVICE_FAILURE");
+    INFO(log);
+    CHECK(code == 3);
+    CHECK(log.find("clsph: error: step 7, t = ") != std::string::npos);
+    CHECK(log.find("CL_OUT_OF_RESOURCES") != std::string::npos);
+    CHECK(log.find("last good state is in") != std::string::npos);
+    const auto j = read_json(out + "/run.json");
+    CHECK(j.at("status") == "device failed");
+    CHECK(j.at("message").get<std::string>().find("step 7") != std::string::npos);
+    // Every particle is in the last good state (none was lost to the failure).
+    CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
+}
+
+TEST_CASE("a malformed CLSPH_TEST_DEVICE_FAILURE is an error, not ignored") {
+    const std::string out = work_dir("device_failure_bad");
+    std::string log;
+    ::setenv("CLSPH_TEST_DEVICE_FAILURE", "seven", 1);
+    const int code = run(args({{"run", scene}, tiny, {"--steps", "2", "--out", out}}), log);
+    ::unsetenv("CLSPH_TEST_DEVICE_FAILURE");
+    INFO(log);
+    CHECK(code == 1);
+    CHECK(log.find("CLSPH_TEST_DEVICE_FAILURE") != std::string::npos);
 }
 
 TEST_CASE("--dry-run reports and writes nothing") {

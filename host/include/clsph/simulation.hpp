@@ -23,6 +23,10 @@ struct Options {
     // Tests and diagnostics: run each device's force pass alone (wait for it before starting the
     // next), so devices that share a CPU are timed without each other's load.
     bool serialize_devices = false;
+    // Tests: a simulated device failure (CL_OUT_OF_RESOURCES from device `fail_device`) when step
+    // `fail_at_step` starts (0: never), to exercise the mid-run error path.
+    std::uint64_t fail_at_step = 0;
+    std::size_t fail_device = 0;
     // Tests: cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };
@@ -34,6 +38,10 @@ struct DeviceShare {
     double force_seconds = 0;   // the last step's force pass (several devices)
     std::size_t ghosts = 0;     // read-only copies of the neighbours' edge columns held now
     std::size_t received_bytes = 0;  // copied into this device from the others since the start
+    // The calibration before the first step (several devices, dynamic balance; 0 otherwise): the
+    // force pass this device would need for the whole scene, fitted as fixed + per-unit cost.
+    double calibrated_whole_scene_seconds = 0;
+    double calibrated_fixed_seconds = 0;
 };
 
 struct StepInfo {

@@ -16,6 +16,9 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     ranges_k_ = device.kernel("cells.cl", "neighbour_ranges", opts);
     locate_k_ = device.kernel("cells.cl", "locate_keys", opts);
     invalid_k_ = device.kernel("cells.cl", "mark_invalid", opts);
+    settle_k_ = device.kernel("cells.cl", "settle_owned", opts);
+    flag_range_k_ = device.kernel("cells.cl", "flag_key_range", opts);
+    gather_range_k_ = device.kernel("cells.cl", "gather_key_range", opts);
     reserve_cells(1024);
 }
 
@@ -51,6 +54,11 @@ std::vector<std::size_t> CellPipeline::sort_particles(ParticleStore& ps, std::si
 }
 
 void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_t keep_first, std::size_t keep_end) {
+    enqueue_sort(ps, n_all, keep_first, keep_end, n_all, 0, grid_.params().invalid_key, true);
+}
+
+void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_t keep_first, std::size_t keep_end,
+                                std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
     const GridParams g = grid_.params();
@@ -59,10 +67,14 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
     keys_k_.setArg(0, n);
     keys_k_.setArg(1, static_cast<cl_uint>(keep_first));
     keys_k_.setArg(2, static_cast<cl_uint>(keep_end));
-    keys_k_.setArg(3, g);
-    keys_k_.setArg(4, ps.pos.get());
-    keys_k_.setArg(5, ps.keys.get());
-    keys_k_.setArg(6, ps.vals.get());
+    keys_k_.setArg(3, static_cast<cl_uint>(tail_first));
+    keys_k_.setArg(4, static_cast<cl_uint>(key_lo));
+    keys_k_.setArg(5, static_cast<cl_uint>(key_hi));
+    keys_k_.setArg(6, static_cast<cl_uint>(settle ? 1 : 0));
+    keys_k_.setArg(7, g);
+    keys_k_.setArg(8, ps.pos.get());
+    keys_k_.setArg(9, ps.keys.get());
+    keys_k_.setArg(10, ps.vals.get());
     d.launch("cells.keys", keys_k_, n, wg_);
 
     sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
@@ -163,6 +175,74 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) 
     d.launch("cells.ranges", ranges_k_, k, wg_);
     cells_ = k;
     return k;
+}
+
+void CellPipeline::enqueue_settle(ParticleStore& ps, std::uint32_t key_lo, std::uint32_t key_hi, cl_rt::EventSet& done) {
+    auto& d = device_;
+    if (!counters_) counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
+    const cl_uint zero = 0;
+    d.fill(counters_, zero, 3);
+    counters_host_ = {0, 0, 0};
+    settle_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
+    settle_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+    settle_k_.setArg(2, static_cast<cl_uint>(key_lo));
+    settle_k_.setArg(3, static_cast<cl_uint>(key_hi));
+    settle_k_.setArg(4, grid_.params());
+    settle_k_.setArg(5, ps.pos.get());
+    settle_k_.setArg(6, counters_.get());
+    d.launch("cells.settle", settle_k_, ps.ranges.owned, wg_);
+    d.read_async(counters_, counters_host_.data(), 3 * sizeof(cl_uint), 0, done);
+}
+
+void CellPipeline::begin_gathers(std::size_t blocks, std::size_t particles) {
+    auto& d = device_;
+    gather_counts_.assign(blocks, 0);
+    if (particles > outbox_capacity_ || !outbox_pos) {
+        const std::size_t cap = particles + particles / 4 + 1024;
+        const std::size_t f4 = 4 * sizeof(cl_float);
+        for (cl_rt::Buffer* b : {&outbox_pos, &outbox_velrho, &outbox_accel, &outbox_id}) *b = cl_rt::Buffer();
+        outbox_pos = d.alloc(cap * f4, "exchange outbox: positions");
+        outbox_velrho = d.alloc(cap * f4, "exchange outbox: velocity+density");
+        outbox_accel = d.alloc(cap * f4, "exchange outbox: acceleration");
+        outbox_id = d.alloc(cap * sizeof(cl_uint), "exchange outbox: ids");
+        outbox_capacity_ = cap;
+    }
+}
+
+void CellPipeline::enqueue_gather(ParticleStore& ps, std::size_t first, std::size_t end, std::uint32_t key_lo,
+                                  std::uint32_t key_hi, std::size_t base, std::size_t block, cl_rt::EventSet& done) {
+    auto& d = device_;
+    if (end <= first) return;
+    const std::size_t n = end - first;
+    if (flags_.bytes() < (n + 1) * sizeof(cl_uint)) {
+        flags_ = cl_rt::Buffer();
+        flags_ = d.alloc((n + n / 4 + 1) * sizeof(cl_uint), "exchange flags");
+    }
+    flag_range_k_.setArg(0, static_cast<cl_uint>(first));
+    flag_range_k_.setArg(1, static_cast<cl_uint>(end));
+    flag_range_k_.setArg(2, static_cast<cl_uint>(key_lo));
+    flag_range_k_.setArg(3, static_cast<cl_uint>(key_hi));
+    flag_range_k_.setArg(4, ps.pos.get());
+    flag_range_k_.setArg(5, flags_.get());
+    d.launch("exchange.flag", flag_range_k_, n, wg_);
+    scan_.exclusive(flags_, flags_, n);
+    gather_range_k_.setArg(0, static_cast<cl_uint>(first));
+    gather_range_k_.setArg(1, static_cast<cl_uint>(end));
+    gather_range_k_.setArg(2, static_cast<cl_uint>(key_lo));
+    gather_range_k_.setArg(3, static_cast<cl_uint>(key_hi));
+    gather_range_k_.setArg(4, static_cast<cl_uint>(base));
+    gather_range_k_.setArg(5, flags_.get());
+    gather_range_k_.setArg(6, ps.pos.get());
+    gather_range_k_.setArg(7, ps.velrho.get());
+    gather_range_k_.setArg(8, ps.accel.get());
+    gather_range_k_.setArg(9, ps.id.get());
+    gather_range_k_.setArg(10, outbox_pos.get());
+    gather_range_k_.setArg(11, outbox_velrho.get());
+    gather_range_k_.setArg(12, outbox_accel.get());
+    gather_range_k_.setArg(13, outbox_id.get());
+    d.launch("exchange.gather", gather_range_k_, n, wg_);
+    // In-order queue: this reads the total before the next block's scan overwrites it.
+    d.read_async(flags_, &gather_counts_.at(block), sizeof(cl_uint), n * sizeof(cl_uint), done);
 }
 
 void CellPipeline::mark_invalid(ParticleStore& ps, std::size_t first, std::size_t end) {

@@ -13,6 +13,7 @@
 #include "device/particle_store.hpp"
 #include "device/primitives.hpp"
 
+#include <array>
 #include <vector>
 
 namespace clsph::device {
@@ -37,6 +38,24 @@ public:
                                             std::size_t keep_end, const std::vector<std::uint32_t>& thresholds);
     // sort_particles in two halves: enqueue the keys, sort and reorder; then (blocking) locate.
     void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end);
+    // As above, and particles from tail_first on are always kept, while those of [keep_first,
+    // keep_end) are kept only if their key lies in [key_lo, key_hi) (the columns a device needs).
+    void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end,
+                      std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle);
+
+    // The exchange with one sort per step (host/src/multi/): settle the drifted owned particles into
+    // cells (keys in pos.w, nothing moved), reading back how many left the domain, how many moved
+    // more than one column and how many now have a key in [key_lo, key_hi) (settled()).
+    void enqueue_settle(ParticleStore& store, std::uint32_t key_lo, std::uint32_t key_hi, cl_rt::EventSet& done);
+    std::array<std::uint32_t, 3> settled() const { return counters_host_; }
+    // Gathers, for each receiving device, the particles of a window [first, end) whose key lies in
+    // [key_lo, key_hi) into the outbox buffers at `base`, in order; their count is read into
+    // gather_count(block). begin_gathers sizes the outbox and the counts first.
+    void begin_gathers(std::size_t blocks, std::size_t particles);
+    void enqueue_gather(ParticleStore& store, std::size_t first, std::size_t end, std::uint32_t key_lo,
+                        std::uint32_t key_hi, std::size_t base, std::size_t block, cl_rt::EventSet& done);
+    std::size_t gather_count(std::size_t block) const { return gather_counts_.at(block); }
+    cl_rt::Buffer outbox_pos, outbox_velrho, outbox_accel, outbox_id;
     std::vector<std::size_t> locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds);
     // locate() without blocking: the positions are read into located() once `done` is waited for.
     void enqueue_locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds,
@@ -65,6 +84,11 @@ private:
     RadixSort sort_;
     Scan scan_;
     std::size_t wg_;
+    cl::Kernel settle_k_, flag_range_k_, gather_range_k_;
+    cl_rt::Buffer counters_, flags_;
+    std::array<std::uint32_t, 3> counters_host_{};
+    std::vector<std::uint32_t> gather_counts_;
+    std::size_t outbox_capacity_ = 0;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <optional>
 
 namespace clsph::multi {
 namespace {
@@ -41,9 +42,9 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
     const std::size_t D = devices.size(), columns = grid.params().n_s;
     balance::Options bo;
     bo.mode = mode_of(options.balance);
-    // Every device keeps at least one column: an idle device is never measured again, so one noisy
-    // step could idle it for good (balance/options.hpp).
-    bo.allow_idle = false;
+    // A device may be left idle when even its narrowest slab would slow every step (a CPU next to a
+    // GPU); the balancer does so only on a calibration or enough measured steps (balance/options.hpp).
+    bo.allow_idle = true;
     balancer_ = std::make_unique<balance::Balancer>(D, columns, bo);
 
     // Where each particle is: its key (and column) on the host, for the first cut and the upload.
@@ -63,11 +64,23 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
     for (std::size_t i = 0; i < p.size(); ++i)
         if (p.type[i] == ParticleType::boundary && key[i] != grid.params().invalid_key)
             boundary_per_column_[grid.cell_of_key(key[i])[0]] += 1;
-    const auto cuts = D == 1 ? std::vector<std::size_t>{0, columns} : balancer_->initial_cuts(profile);
     slabs_.resize(D);
     for (std::size_t d = 0; d < D; ++d) {
         Slab& s = slabs_[d];
         s.device = devices[d];
+        const std::size_t capacity = D == 1 ? p.size() : static_cast<std::size_t>(
+            static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + options.headroom));
+        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options.headroom);
+        s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
+        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.coarse);
+        if (D > 1) s.device->profiler().enable(true);  // the balancer needs each force pass's time
+    }
+    // Devices of different speeds must not start from an equal split (a CPU next to a GPU would
+    // hold half the particles for the first steps): time each one on samples of the scene first.
+    if (D > 1 && bo.mode == balance::Mode::dynamic) calibrate(p, key, profile);
+    const auto cuts = D == 1 ? std::vector<std::size_t>{0, columns} : balancer_->initial_cuts(profile);
+    for (std::size_t d = 0; d < D; ++d) {
+        Slab& s = slabs_[d];
         s.first_col = cuts[d];
         s.end_col = cuts[d + 1];
         Particles mine;
@@ -78,20 +91,86 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
             if ((outside && d == 0) || (!outside && c >= s.first_col && c < s.end_col))
                 mine.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
         }
-        const std::size_t capacity = D == 1 ? mine.size() : std::max<std::size_t>(
-            static_cast<std::size_t>(static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + options.headroom)),
-            mine.size());
-        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, capacity, options.headroom);
         s.store->upload(mine);
-        s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
-        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.coarse);
-        if (D > 1) s.device->profiler().enable(true);  // the balancer needs each force pass's time
     }
     if (!options.balance_log.empty()) {
         log_file_ = std::make_unique<std::ofstream>(options.balance_log);
         if (!*log_file_) throw Error("--balance-log: cannot write " + options.balance_log);
         log_ = std::make_unique<balance::BalanceLog>(*log_file_, D);
     }
+}
+
+void SlabDriver::calibrate(const Particles& p, const std::vector<std::uint32_t>& key,
+                           const balance::ColumnProfile& profile) {
+    // Samples are whole columns around the column that halves the work (so they look like the
+    // scene: the same neighbour counts, fluid and walls), growing 4x per round from 4096 particles
+    // until a device's force pass takes 20 ms, or the sample is the whole scene (at most 4 M
+    // particles). The last two rounds give fixed + per-unit cost: a GPU is timed at sizes that fill
+    // it, a CPU stops early. Set-up cost: about 2 x (the largest round) per device.
+    const std::size_t columns = grid_.params().n_s, invalid = grid_.params().invalid_key;
+    std::vector<std::vector<std::uint32_t>> by_column(columns);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (key[i] != invalid) by_column[grid_.cell_of_key(key[i])[0]].push_back(static_cast<std::uint32_t>(i));
+    double total = 0;
+    for (double w : profile.work) total += w;
+    std::size_t mid = 0;
+    for (double acc = 0; mid + 1 < columns && acc + profile.work[mid] < 0.5 * total; ++mid) acc += profile.work[mid];
+    auto sample_of = [&](std::size_t want, double& work) {
+        std::size_t lo = mid, hi = mid, count = 0;
+        work = 0;
+        while (count < want && (lo > 0 || hi < columns)) {
+            const bool right = hi < columns && (lo == 0 || hi - mid <= mid - lo);
+            const std::size_t c = right ? hi++ : --lo;
+            count += by_column[c].size();
+            work += profile.work[c];
+        }
+        Particles out;
+        for (std::size_t c = lo; c < hi; ++c)
+            for (std::uint32_t i : by_column[c])
+                out.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+        return out;
+    };
+    const std::size_t valid = p.size();
+    for (std::size_t d = 0; d < slabs_.size(); ++d) {
+        Slab& s = slabs_[d];
+        const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
+        std::vector<std::array<double, 2>> points;  // (work, seconds)
+        std::size_t previous = 0;
+        for (std::size_t want = std::min<std::size_t>(valid, 4096);; want *= 4) {
+            double work = 0;
+            const Particles sample = sample_of(want, work);
+            if (sample.size() == previous) break;  // the whole scene already
+            previous = sample.size();
+            s.store->upload(sample);
+            s.cells->run(*s.store);
+            double seconds = 0;
+            for (int round = 0; round < 2; ++round) {  // the first compiles and warms up
+                const auto& st = s.device->profiler().stats();
+                auto it = st.find("sph.forces");
+                const double before = it == st.end() ? 0.0 : it->second.seconds;
+                for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
+                s.device->finish();
+                const auto& st2 = s.device->profiler().stats();
+                seconds = st2.at("sph.forces").seconds - before;
+            }
+            if (work > 0 && seconds > 0) points.push_back({work, seconds});
+            if (sample.size() >= valid || want >= (std::size_t{1} << 22) || (points.size() >= 2 && seconds >= 0.02)) break;
+        }
+        if (points.empty()) continue;
+        const auto& b = points.back();
+        double per_unit = b[1] / b[0], fixed = 0;
+        if (points.size() >= 2) {
+            const auto& a = points[points.size() - 2];
+            const double slope = (b[1] - a[1]) / (b[0] - a[0]);
+            if (slope > 0 && b[0] > a[0] && b[1] - slope * b[0] >= 0) {
+                per_unit = slope;
+                fixed = b[1] - slope * b[0];
+            }
+        }
+        balancer_->calibrate(d, fixed, per_unit);
+        s.calibration = {fixed, per_unit, total};
+    }
+    for (auto& s : slabs_) s.device->profiler().clear();
 }
 
 std::uint32_t SlabDriver::column_key(std::size_t column) const {
@@ -137,9 +216,29 @@ std::size_t SlabDriver::redistribute() {
         s.cells->build_tables(ps, at[0]);
         return removed;
     }
+    if (options_.exchange != "sort" && windowed_ready_) {
+        if (const auto r = redistribute_windowed()) return *r;
+    }
+    return redistribute_sorted();
+}
+
+std::vector<SlabDriver::Need> SlabDriver::needs() const {
     // Each device e needs the columns [lo, hi): its own [first, end) and one column either side (the
     // support radius is one column), which belongs to the nearest non-empty neighbour. An empty
     // device needs nothing.
+    std::vector<Need> need(slabs_.size());
+    for (std::size_t e = 0; e < slabs_.size(); ++e) {
+        const Slab& s = slabs_[e];
+        if (s.empty()) continue;
+        need[e] = {s.first_col > 0 ? s.first_col - 1 : 0, s.first_col, s.end_col, std::min(s.end_col + 1, columns())};
+    }
+    return need;
+}
+
+std::size_t SlabDriver::redistribute_sorted() {
+    const std::size_t D = slabs_.size();
+    const std::uint32_t invalid = grid_.params().invalid_key;
+    std::size_t removed = 0;
     // 1. Sort each device's owned particles (stale ghosts dropped): columns ascending, so what every
     //    device needs from it is one contiguous range. All devices sort at once, while the balancer
     //    moves the cuts from the last step's force times.
@@ -155,16 +254,7 @@ std::size_t SlabDriver::redistribute() {
         rebalance(steps_);
         rebalance_due_ = false;
     }
-    // Each device e needs the columns [lo, hi): its own [first, end) and one column either side (the
-    // support radius is one column), which belongs to the nearest non-empty neighbour. An empty
-    // device needs nothing.
-    struct Need { std::size_t lo = 0, first = 0, end = 0, hi = 0; };
-    std::vector<Need> need(D);
-    for (std::size_t e = 0; e < D; ++e) {
-        const Slab& s = slabs_[e];
-        if (s.empty()) continue;
-        need[e] = {s.first_col > 0 ? s.first_col - 1 : 0, s.first_col, s.end_col, std::min(s.end_col + 1, columns())};
-    }
+    const auto need = needs();
     std::vector<std::uint32_t> thresholds;
     for (std::size_t e = 0; e < D; ++e)
         for (std::size_t c : {need[e].lo, need[e].first, need[e].end, need[e].hi}) thresholds.push_back(column_key(c));
@@ -263,7 +353,159 @@ std::size_t SlabDriver::redistribute() {
             s.cells->enqueue_locate(ps, ps.ranges.active(), cols, counted);
         }
         counted.wait("sorting particles after the exchange", options_.sleep_wait);
-        for (std::size_t e = 0; e < D; ++e) slabs_[e].cells->finish_tables(*slabs_[e].store, slabs_[e].store->ranges.active());
+        for (std::size_t e = 0; e < D; ++e) {
+            slabs_[e].cells->finish_tables(*slabs_[e].store, slabs_[e].store->ranges.active());
+            remember_columns(slabs_[e]);
+        }
+        windowed_ready_ = true;
+    }
+    return removed;
+}
+
+void SlabDriver::remember_columns(Slab& s) {
+    const auto& at = s.cells->located();
+    s.column_at.assign(at.begin(), at.end());
+    s.columns_first = s.first_col;
+    s.columns_end = s.end_col;
+    if (s.empty() || s.column_at.size() != s.end_col - s.first_col + 1) {
+        s.column_at.clear();
+        s.columns_first = s.columns_end = 0;
+    }
+}
+
+std::optional<std::size_t> SlabDriver::redistribute_windowed() {
+    // One sort per step. Particles move less than a column per step (CFL), so what device e needs
+    // from device d (its particles now in e's columns [lo, hi)) was, before the drift, in d's
+    // columns [lo - 1, hi + 1): a window of d's still-sorted array, known from the last step's
+    // column positions. Each window is compacted on d (flag, scan, gather into an outbox), read
+    // to pinned host memory, written after e's particles, and one sort per device then orders
+    // [ghosts | owned | ghosts] and drops what e no longer needs.
+    const std::size_t D = slabs_.size();
+    if (rebalance_due_) {
+        PhaseTimer t(phases_, "balance");
+        rebalance(steps_);
+        rebalance_due_ = false;
+    }
+    const auto need = needs();
+    struct Block { std::size_t d, e, index, base; };
+    std::vector<Block> blocks;
+    {
+        PhaseTimer t(phases_, "exchange: settle and gather");
+        cl_rt::EventSet gathered;
+        for (std::size_t d = 0; d < D; ++d) {
+            Slab& s = slabs_[d];
+            auto& ps = *s.store;
+            s.cells->enqueue_settle(ps, column_key(need[d].lo), need[d].hi > need[d].lo ? column_key(need[d].hi) : 0, gathered);
+            struct Window { std::size_t e, first, end; };
+            std::vector<Window> windows;
+            std::size_t total = 0;
+            if (!s.column_at.empty())
+                for (std::size_t e = 0; e < D; ++e) {
+                    if (e == d || need[e].hi <= need[e].lo) continue;
+                    const std::size_t c0 = std::max(need[e].lo > 0 ? need[e].lo - 1 : 0, s.columns_first);
+                    const std::size_t c1 = std::min(need[e].hi + 1, s.columns_end);
+                    if (c1 <= c0) continue;
+                    const std::size_t first = s.column_at[c0 - s.columns_first], end = s.column_at[c1 - s.columns_first];
+                    if (end > first) {
+                        windows.push_back({e, first, end});
+                        total += end - first;
+                    }
+                }
+            s.cells->begin_gathers(windows.size(), total);
+            std::size_t base = 0;
+            for (std::size_t k = 0; k < windows.size(); ++k) {
+                const auto& w = windows[k];
+                s.cells->enqueue_gather(ps, w.first, w.end, column_key(need[w.e].lo), column_key(need[w.e].hi), base, k,
+                                        gathered);
+                blocks.push_back({d, w.e, k, base});
+                base += w.end - w.first;
+            }
+            s.device->flush();
+        }
+        gathered.wait("gathering particles for the neighbouring devices", options_.sleep_wait);
+    }
+    std::size_t removed = 0;
+    for (auto& s : slabs_) {
+        if (s.cells->settled()[1] != 0) {
+            ++fallbacks_;
+            return std::nullopt;  // a particle jumped more than a column: sort first
+        }
+        removed += s.cells->settled()[0];
+    }
+    // Read every block into its sender's pinned memory: [pos | velrho | accel | id].
+    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
+    std::vector<std::size_t> staged(D, 0), incoming(D, 0);
+    std::vector<unsigned char*> at(blocks.size());
+    for (const auto& b : blocks) {
+        staged[b.d] += slabs_[b.d].cells->gather_count(b.index);
+        incoming[b.e] += slabs_[b.d].cells->gather_count(b.index);
+    }
+    while (staging_.size() < D) staging_.push_back(std::make_unique<cl_rt::PinnedHost>());
+    {
+        PhaseTimer t(phases_, "exchange: read to pinned host");
+        for (std::size_t d = 0; d < D; ++d) staging_[d]->reserve(*slabs_[d].device, staged[d] * kStagedBytesPerParticle);
+        std::vector<std::size_t> used(D, 0);
+        cl_rt::EventSet read;
+        for (std::size_t k = 0; k < blocks.size(); ++k) {
+            const auto& b = blocks[k];
+            auto& cells = *slabs_[b.d].cells;
+            auto& dev = *slabs_[b.d].device;
+            const std::size_t m = cells.gather_count(b.index);
+            at[k] = staging_[b.d]->data() + used[b.d];
+            used[b.d] += m * kStagedBytesPerParticle;
+            dev.read_async(cells.outbox_pos, at[k], m * f4, b.base * f4, read);
+            dev.read_async(cells.outbox_velrho, at[k] + m * f4, m * f4, b.base * f4, read);
+            dev.read_async(cells.outbox_accel, at[k] + 2 * m * f4, m * f4, b.base * f4, read);
+            dev.read_async(cells.outbox_id, at[k] + 3 * m * f4, m * u, b.base * u, read);
+            moved_ += m;
+            moved_bytes_ += m * kStagedBytesPerParticle;
+            slabs_[b.e].received_bytes += m * kStagedBytesPerParticle;
+        }
+        read.wait("reading particles for the neighbouring devices", options_.sleep_wait);
+    }
+    {
+        PhaseTimer t(phases_, "exchange: write and sort");
+        cl_rt::EventSet counted;
+        for (std::size_t e = 0; e < D; ++e) {
+            Slab& s = slabs_[e];
+            auto& ps = *s.store;
+            const std::size_t active = ps.ranges.active(), n = incoming[e];
+            ps.reserve(active + n);
+            std::size_t to = active;
+            for (std::size_t k = 0; k < blocks.size(); ++k) {
+                const auto& b = blocks[k];
+                if (b.e != e) continue;
+                const std::size_t m = slabs_[b.d].cells->gather_count(b.index);
+                s.device->write_async(ps.pos, at[k], m * f4, to * f4, counted);
+                s.device->write_async(ps.velrho, at[k] + m * f4, m * f4, to * f4, counted);
+                s.device->write_async(ps.accel, at[k] + 2 * m * f4, m * f4, to * f4, counted);
+                s.device->write_async(ps.id, at[k] + 3 * m * f4, m * u, to * u, counted);
+                to += m;
+            }
+            const std::uint32_t key_lo = column_key(need[e].lo), key_hi = need[e].hi > need[e].lo ? column_key(need[e].hi) : 0;
+            s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
+                                  false);
+            const std::size_t valid = s.cells->settled()[2] + n;
+            ps.ranges = device::ParticleRanges{0, valid, 0};
+            s.cells->enqueue_count_cells(ps, valid, counted);
+            std::vector<std::uint32_t> cols;
+            for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
+            s.cells->enqueue_locate(ps, valid, cols, counted);
+        }
+        counted.wait("sorting particles after the exchange", options_.sleep_wait);
+        for (std::size_t e = 0; e < D; ++e) {
+            Slab& s = slabs_[e];
+            auto& ps = *s.store;
+            const std::size_t valid = ps.ranges.active();
+            const auto& l = s.cells->located();
+            if (s.empty() || l.size() < 2) {
+                ps.ranges = device::ParticleRanges{0, 0, 0};
+            } else {
+                ps.ranges = device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
+            }
+            s.cells->finish_tables(ps, ps.ranges.active());
+            remember_columns(s);
+        }
     }
     return removed;
 }
@@ -305,6 +547,11 @@ StepOutcome SlabDriver::start() {
 }
 
 StepOutcome SlabDriver::step(double dt) {
+    if (options_.fail_at_step != 0 && steps_ + 1 == options_.fail_at_step) {
+        const std::size_t d = std::min(options_.fail_device, slabs_.size() - 1);
+        throw DeviceError(CL_OUT_OF_RESOURCES, "launching kernel 'sph.kick_drift' on " + slabs_[d].device->label() +
+                                                   ": CL_OUT_OF_RESOURCES (-5) (a simulated failure, for tests)");
+    }
     if (options_.cut_schedule && slabs_.size() > 1) {
         const auto c = options_.cut_schedule(steps_, columns());
         if (c.size() != slabs_.size() + 1 || c.front() != 0 || c.back() != columns() || !std::is_sorted(c.begin(), c.end()))
@@ -352,8 +599,8 @@ balance::ColumnProfile SlabDriver::column_profile() {
     p.particles.assign(columns, 0);
     for (auto& s : slabs_) {
         if (s.empty()) continue;
-        const auto& at = s.cells->located();
-        if (at.size() != s.end_col - s.first_col + 1) continue;
+        const auto& at = s.column_at;
+        if (s.columns_first != s.first_col || s.columns_end != s.end_col || at.size() != s.end_col - s.first_col + 1) continue;
         for (std::size_t c = s.first_col; c < s.end_col; ++c) {
             const std::size_t n = at[c - s.first_col + 1] - at[c - s.first_col];
             const std::size_t b = std::min<std::size_t>(n, boundary_per_column_[c]);

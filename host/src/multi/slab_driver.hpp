@@ -18,6 +18,7 @@
 #include <map>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,11 @@ struct DriverOptions {
     bool serialize = false;           // tests: one device's force pass at a time
     double headroom = 0.25;
     std::string staging = "sender";   // whose pinned memory transfers are staged in: sender | receiver
-    bool sleep_wait = true;           // wait for devices on event callbacks (false: clWaitForEvents)
+    bool sleep_wait = true;
+    std::string exchange = "window";  // window: one sort per step; sort: sort, exchange, sort again           // wait for devices on event callbacks (false: clWaitForEvents)
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
+    std::uint64_t fail_at_step = 0;  // tests: simulated device failure (clsph/simulation.hpp)
+    std::size_t fail_device = 0;
 };
 
 struct Slab {
@@ -43,6 +47,14 @@ struct Slab {
     std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
     double force_seconds = 0;                // last step's force pass time (the balancer's input)
     std::size_t received_bytes = 0;         // copied in from other devices since the start
+    // Where each owned column [columns_first, columns_end] began in the sorted array after the last
+    // exchange: the next step's windows (and the balancer's column profile).
+    std::vector<std::uint32_t> column_at;
+    std::size_t columns_first = 0, columns_end = 0;
+    // The calibration before the first step (several devices, dynamic balance): force pass time =
+    // fixed + per_unit * work, and the scene's whole work (so per_unit * work_total is the time
+    // this device would take for everything).
+    struct Calibration { double fixed = 0, per_unit = 0, work_total = 0; } calibration;
     bool empty() const { return first_col >= end_col; }
 };
 
@@ -76,10 +88,16 @@ public:
 private:
     std::uint32_t column_key(std::size_t column) const;
     std::size_t owner_of(std::uint32_t key) const;
-    std::size_t redistribute();          // sort, migrate, ghosts, sort, tables; returns removed
+    struct Need { std::size_t lo = 0, first = 0, end = 0, hi = 0; };
+    std::vector<Need> needs() const;
+    std::size_t redistribute();          // exchange, sort, tables; returns removed
+    std::size_t redistribute_sorted();   // sort, exchange ranges, sort again (first step, fallback)
+    std::optional<std::size_t> redistribute_windowed();  // one sort per step; nullopt: fall back
+    void remember_columns(Slab& s);
     void forces();
     StepOutcome kick(double dt);
     void rebalance(std::uint64_t step);
+    void calibrate(const Particles& p, const std::vector<std::uint32_t>& key, const balance::ColumnProfile& profile);
     balance::ColumnProfile column_profile();
 
     const device::Grid& grid_;
@@ -89,7 +107,9 @@ private:
     std::unique_ptr<std::ofstream> log_file_;
     std::unique_ptr<balance::BalanceLog> log_;
     std::uint64_t steps_ = 0;
-    bool rebalance_due_ = false;  // the balancer runs at the next step's first sort
+    bool rebalance_due_ = false;
+    bool windowed_ready_ = false;   // every slab's column positions are known
+    std::size_t fallbacks_ = 0;     // windowed steps that had to sort first  // the balancer runs at the next step's first sort
     std::size_t moved_ = 0, moved_bytes_ = 0;
     // Per device: pinned host memory that particles going between devices are staged in
     // (pos, velrho, accel: 16 bytes each; id: 4).
