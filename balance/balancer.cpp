@@ -49,7 +49,36 @@ std::vector<std::size_t> Balancer::initial_cuts(const ColumnProfile& profile,
   }
   const Plan plan = place_cuts(costs, ColumnSums(profile), options_.min_columns, cuts_);
   if (plan.feasible) cuts_ = plan.cuts;
+  idle_empty_slabs(cuts_, profile);
   return cuts_;
+}
+
+void Balancer::idle_empty_slabs(std::vector<std::size_t>& cuts, const ColumnProfile& profile) const {
+  // A slab without particles costs its device a step's overhead and a halo for nothing (its model
+  // predicts 0 s for 0 work, so the cut search is indifferent to it): its columns go to a
+  // neighbour, which gains no work. Not a timing decision, so no evidence is needed.
+  if (!options_.allow_idle || options_.mode == Mode::off) return;
+  const std::size_t devices = cuts.size() - 1;
+  auto particles = [&](std::size_t d) {
+    std::size_t n = 0;
+    for (std::size_t c = cuts[d]; c < cuts[d + 1]; ++c) n += profile.particles[c];
+    return n;
+  };
+  std::size_t busy = 0;
+  for (std::size_t d = 0; d < devices; ++d) busy += particles(d) > 0;
+  if (busy == 0) return;
+  for (std::size_t round = 0; round < devices; ++round) {
+    bool changed = false;
+    for (std::size_t d = 0; d < devices; ++d) {
+      if (cuts[d] == cuts[d + 1] || particles(d) > 0) continue;
+      if (d + 1 < devices)
+        cuts[d + 1] = cuts[d];  // to the next device
+      else
+        cuts[d] = cuts[d + 1];  // the last one's columns to the one before
+      changed = true;
+    }
+    if (!changed) break;
+  }
 }
 
 void Balancer::calibrate(std::size_t device, double fixed_seconds, double seconds_per_unit) {
@@ -107,6 +136,7 @@ Decision Balancer::step(const std::vector<DeviceSample>& samples, const ColumnPr
   const ColumnSums columns(profile);
   const std::vector<SlabCost> costs = slab_costs();
   auto finish = [&](Reason reason) {
+    idle_empty_slabs(decision.cuts, profile);
     decision.reason = reason;
     decision.moved = decision.cuts != cuts_;
     cuts_ = decision.cuts;

@@ -69,6 +69,7 @@ class Balancer {
   // Each device's predicted cost; a device that never reported a time borrows the mean model of
   // those that did (an optimistic guess, corrected after its first step).
   std::vector<SlabCost> slab_costs() const;
+  void idle_empty_slabs(std::vector<std::size_t>& cuts, const ColumnProfile& profile) const;
   std::vector<CutWindow> movement_windows() const;
   void check_profile(const ColumnProfile& profile) const;
 

@@ -86,3 +86,36 @@ TEST_CASE("calibration: one noisy step does not idle a device") {
   }
   CHECK(imbalance(devices.true_seconds(cuts, profile)) <= 1.05);
 }
+
+TEST_CASE("calibration: no device is left holding only columns without particles") {
+  // Half the domain is empty (the tank beyond the water and its floor): the model predicts 0 s
+  // for 0 work, so a slow device's narrowest slab lands there, where it would still pay a step's
+  // overhead and a halo. It must be idled instead.
+  ColumnProfile profile = test_profile();
+  for (std::size_t c = columns / 2; c < columns; ++c) {
+    profile.work[c] = 0.0;
+    profile.particles[c] = 0;
+  }
+  for (std::size_t devices : {2u, 3u}) {
+    auto devs = speed_ladder(devices, 1.0, fast_per_unit, 0.0, total_work(profile));
+    devs.back().seconds_per_unit *= 1000.0;  // a CPU next to GPUs
+    Balancer b(devices, columns, Options{});
+    for (std::size_t d = 0; d < devices; ++d) b.calibrate(d, devs[d].fixed_seconds, devs[d].seconds_per_unit);
+    auto check = [&](const std::vector<std::size_t>& cuts) {
+      for (std::size_t d = 0; d < devices; ++d) {
+        std::size_t n = 0;
+        for (std::size_t c = cuts[d]; c < cuts[d + 1]; ++c) n += profile.particles[c];
+        INFO(devices << " devices, device " << d << ": columns [" << cuts[d] << ", " << cuts[d + 1] << ")");
+        CHECK((cuts[d] == cuts[d + 1] || n > 0));
+      }
+      CHECK(cuts.front() == 0);
+      CHECK(cuts.back() == columns);
+      CHECK(std::is_sorted(cuts.begin(), cuts.end()));
+    };
+    auto cuts = b.initial_cuts(profile);
+    check(cuts);
+    SyntheticDevices sim(devs, 0.02, 7);
+    for (int step = 0; step < 30; ++step) cuts = b.step(sim.run_step(cuts, profile), profile).cuts;
+    check(cuts);
+  }
+}

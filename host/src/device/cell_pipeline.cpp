@@ -179,10 +179,11 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) 
 
 void CellPipeline::enqueue_settle(ParticleStore& ps, std::uint32_t key_lo, std::uint32_t key_hi, cl_rt::EventSet& done) {
     auto& d = device_;
+    counters_host_ = {0, 0, 0};
+    if (ps.ranges.owned == 0) return;  // an idle device: nothing to settle, no round trip
     if (!counters_) counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
     const cl_uint zero = 0;
     d.fill(counters_, zero, 3);
-    counters_host_ = {0, 0, 0};
     settle_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
     settle_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
     settle_k_.setArg(2, static_cast<cl_uint>(key_lo));

@@ -522,9 +522,11 @@ void SlabDriver::forces() {
 StepOutcome SlabDriver::kick(double dt) {
     StepOutcome out;
     cl_rt::EventSet done;
-    for (auto& s : slabs_) s.physics->enqueue_kick(*s.store, dt, done);
+    for (auto& s : slabs_)
+        if (s.store->ranges.owned > 0) s.physics->enqueue_kick(*s.store, dt, done);  // idle devices rest
     done.wait("the second kick", options_.sleep_wait);
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
+        if (slabs_[d].store->ranges.owned == 0) continue;
         const auto k = slabs_[d].physics->kick_result();
         out.kick.max_speed2 = std::max(out.kick.max_speed2, k.max_speed2);
         out.kick.max_accel2 = std::max(out.kick.max_accel2, k.max_accel2);
