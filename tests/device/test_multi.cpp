@@ -84,6 +84,57 @@ TEST_CASE("the same scene on 1, 2 and 3 devices gives the same particles") {
     }
 }
 
+TEST_CASE("devices going idle and back give the same particles as one device") {
+    const auto devs = test::devices();
+    REQUIRE(devs.size() >= 2);
+    const double dp = 0.146 / 8;
+    const Scene scene = small_dam(dp);
+    Options one;
+    one.devices = spec_of(1);
+    Simulation ref(scene, one);
+    for (int i = 0; i < 100; ++i) ref.step();
+    const Particles pr = ref.particles();
+    const auto ref_ids = by_id(pr);
+    // Two devices: the second idle (the first steps alone, no exchange), then a split, then the
+    // first idle, then a split again.
+    Options o;
+    o.devices = spec_of(2);
+    o.cut_schedule = [](std::uint64_t step, std::size_t columns) {
+        if (step < 25) return std::vector<std::size_t>{0, columns, columns};
+        if (step < 50) return std::vector<std::size_t>{0, columns / 2, columns};
+        if (step < 75) return std::vector<std::size_t>{0, 0, columns};
+        return std::vector<std::size_t>{0, columns / 3, columns};
+    };
+    Simulation sim(scene, o);
+    for (int i = 0; i < 100; ++i) {
+        sim.step();
+        if (i == 10 || i == 60) {  // while one device is idle, it owns nothing
+            const auto shares = sim.shares();
+            CHECK(shares[i == 10 ? 1 : 0].particles == 0);
+            CHECK(shares[i == 10 ? 1 : 0].ghosts == 0);
+        }
+    }
+    const Particles p = sim.particles();
+    REQUIRE(p.size() == pr.size());
+    const auto ids = by_id(p);
+    REQUIRE(ids.size() == p.size());
+    double worst = 0;
+    for (const auto& [id, i] : ids) {
+        auto it = ref_ids.find(id);
+        REQUIRE(it != ref_ids.end());
+        for (int k = 0; k < 3; ++k) {
+            double dx = p.position[i][k] - pr.position[it->second][k];
+            if (scene.domain.periodic[k]) {
+                const double len = scene.domain.max[k] - scene.domain.min[k];
+                dx -= std::round(dx / len) * len;
+            }
+            worst = std::max(worst, std::abs(dx));
+        }
+    }
+    MESSAGE("idle and back: largest position difference from one device " << worst / dp << " dp");
+    CHECK(worst < 1e-3 * dp);
+}
+
 TEST_CASE("migration under stress: cuts move every step") {
     const auto devs = test::devices();
     REQUIRE(devs.size() >= 2);

@@ -216,6 +216,37 @@ std::size_t SlabDriver::redistribute() {
         s.cells->build_tables(ps, at[0]);
         return removed;
     }
+    // Every device but one idle (a CPU next to a GPU, say): the busy one holds every column and
+    // steps as if alone, with no exchange; the balancer still runs and may hand columns back.
+    if (rebalance_due_) {
+        PhaseTimer t(phases_, "balance");
+        rebalance(steps_);
+        rebalance_due_ = false;
+    }
+    std::size_t busy = 0, busy_slab = 0;
+    for (std::size_t d = 0; d < D; ++d)
+        if (!slabs_[d].empty() || slabs_[d].store->ranges.active() > 0) {
+            ++busy;
+            busy_slab = d;
+        }
+    if (busy == 1 && slabs_[busy_slab].first_col == 0 && slabs_[busy_slab].end_col == columns()) {
+        PhaseTimer t(phases_, "sort (one device busy)");
+        Slab& s = slabs_[busy_slab];
+        auto& ps = *s.store;
+        std::vector<std::uint32_t> thresholds;
+        for (std::size_t c = s.first_col; c <= s.end_col; ++c) thresholds.push_back(column_key(c));
+        thresholds.push_back(invalid);
+        const auto at = s.cells->sort_particles(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned(),
+                                                thresholds);
+        removed = ps.ranges.owned - at.back();
+        ps.ranges = device::ParticleRanges{0, at.back(), 0};
+        s.cells->build_tables(ps, at.back());
+        s.column_at.assign(at.begin(), at.end() - 1);
+        s.columns_first = s.first_col;
+        s.columns_end = s.end_col;
+        windowed_ready_ = true;
+        return removed;
+    }
     if (options_.exchange != "sort" && windowed_ready_) {
         if (const auto r = redistribute_windowed()) return *r;
     }
