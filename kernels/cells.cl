@@ -67,25 +67,36 @@ __kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end
 // [key_lo, key_hi) (the columns this device keeps).
 __kernel void settle_owned(const uint first, const uint end, const uint key_lo, const uint key_hi, const GridParams g,
                            __global float4* pos, __global uint* counters) {
+    // Counted per work-group in local memory, then one global atomic per group and counter: one
+    // global counter hit by every particle serialised the kernel (0.34 ms for 11.7 M particles on
+    // an H200, 4.5x the cost of cells.keys).
+    __local uint local_counts[3];
+    const uint lid = get_local_id(0);
+    if (lid < 3u) local_counts[lid] = 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
     const uint i = first + (uint)get_global_id(0);
-    if (i >= end) return;
-    float4 p = pos[i];
-    const uint old = pos_key(p);
-    if (old == g.invalid_key) return;
-    uint s = key_s(g, old), a = key_a(g, old), b = key_b(g, old);
-    float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
-    const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
-                        settle_axis(&oa, &a, g.cell_a, g.n_a, g.ext_a, g.periodic_a) &&
-                        settle_axis(&ob, &b, g.cell_b, g.n_b, g.ext_b, 0u);
-    const uint key = inside ? make_key(g, s, a, b) : g.invalid_key;
-    S_OF(p) = os;
-    A_OF(p) = oa;
-    B_OF(p) = ob;
-    p.w = as_float(key);
-    pos[i] = p;
-    if (!inside) atomic_inc(&counters[0]);
-    else if (abs((int)s - (int)key_s(g, old)) > 1) atomic_inc(&counters[1]);
-    if (inside && key >= key_lo && key < key_hi) atomic_inc(&counters[2]);
+    if (i < end) {
+        float4 p = pos[i];
+        const uint old = pos_key(p);
+        if (old != g.invalid_key) {
+            uint s = key_s(g, old), a = key_a(g, old), b = key_b(g, old);
+            float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
+            const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
+                                settle_axis(&oa, &a, g.cell_a, g.n_a, g.ext_a, g.periodic_a) &&
+                                settle_axis(&ob, &b, g.cell_b, g.n_b, g.ext_b, 0u);
+            const uint key = inside ? make_key(g, s, a, b) : g.invalid_key;
+            S_OF(p) = os;
+            A_OF(p) = oa;
+            B_OF(p) = ob;
+            p.w = as_float(key);
+            pos[i] = p;
+            if (!inside) atomic_inc(&local_counts[0]);
+            else if (abs((int)s - (int)key_s(g, old)) > 1) atomic_inc(&local_counts[1]);
+            if (inside && key >= key_lo && key < key_hi) atomic_inc(&local_counts[2]);
+        }
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid < 3u && local_counts[lid] != 0u) atomic_add(&counters[lid], local_counts[lid]);
 }
 
 // flags[i - first] = 1 for particles of [first, end) whose key lies in [key_lo, key_hi).
