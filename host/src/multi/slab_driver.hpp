@@ -1,9 +1,15 @@
 // One simulation over several devices (DESIGN.md "Many devices"): the domain is cut into slabs of
 // cell columns along the split axis, one per device; each device holds [ghosts | owned | ghosts]
-// in sorted order. Per step: kick and drift on every device; sort; particles that left a slab go to
-// the device that owns their column now; the edge columns go to the neighbours as ghosts; sort
-// again and build the cell tables; forces; second kick. The balancer moves the cuts from each
-// device's measured force time. With one device the exchange is skipped.
+// in sorted order. Before the first step each device is timed on samples of the scene (the
+// balancer's calibration, so unequal devices do not start from an equal split). Per step: kick and
+// drift on every device; the balancer moves the cuts from the last step's force times; each
+// device settles its particles into cells and compacts, for every other device, what that device
+// now needs (its owned columns and one halo column either side) out of a window of its
+// still-sorted particles; the blocks go through pinned host memory (staging works across contexts
+// and vendors); each device sorts once ([ghosts | owned | ghosts], dropping what it no longer
+// needs) and builds its cell tables; forces; second kick. The first step (and any step where a
+// particle jumped more than a column, which the CFL limit rules out) sorts, exchanges ranges and
+// sorts again instead. With one device, or one busy device and the others idle, no exchange.
 #pragma once
 #include "balance/balance_log.hpp"
 #include "balance/balancer.hpp"
