@@ -62,6 +62,15 @@ void print_profile(std::ostream& os, const std::vector<KernelTime>& per_device, 
         std::snprintf(text, sizeof text, "%.3f ms of kernel time per step\n", 1e3 * total / static_cast<double>(steps));
         os << text;
     }
+    if (devices > 1 && steps) {
+        // Each device's own total: how evenly the balancer spread the work.
+        std::map<std::string, double> by_device;
+        for (const auto& k : per_device) by_device[k.device] += k.seconds;
+        for (const auto& [device, seconds] : by_device) {
+            std::snprintf(text, sizeof text, "  %.3f ms/step on ", 1e3 * seconds / static_cast<double>(steps));
+            os << text << device << '\n';
+        }
+    }
 }
 
 }  // namespace clsph::app
