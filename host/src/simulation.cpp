@@ -93,7 +93,8 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.fail_device = options.fail_device;
     // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=window|sort (one sort
     // per step, or sort / exchange / sort again), CLSPH_STAGING=sender|receiver,
-    // CLSPH_WAIT=sleep|block (sleep: event callbacks where the driver delivers them on time).
+    // CLSPH_WAIT=callbacks|poll|block (callbacks: sleep on event callbacks where the driver delivers
+    // them on time, polling elsewhere).
     if (const char* v = std::getenv("CLSPH_STAGING")) {
         dopt.staging = v;
         if (dopt.staging != "sender" && dopt.staging != "receiver")
@@ -106,8 +107,11 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     }
     if (const char* v = std::getenv("CLSPH_WAIT")) {
         const std::string w = v;
-        if (w != "sleep" && w != "block") throw Error("CLSPH_WAIT: unknown value '" + w + "' (use sleep or block)");
-        dopt.sleep_wait = w == "sleep";
+        using Mode = cl_rt::EventSet::Mode;
+        if (w == "callbacks") dopt.wait_mode = Mode::callbacks;
+        else if (w == "poll") dopt.wait_mode = Mode::poll;
+        else if (w == "block") dopt.wait_mode = Mode::block;
+        else throw Error("CLSPH_WAIT: unknown value '" + w + "' (use callbacks, poll or block)");
     }
     m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
     const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel

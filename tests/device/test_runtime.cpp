@@ -208,12 +208,15 @@ TEST_CASE("non-blocking transfers through pinned host memory between every pair 
             }
             CHECK(poisoned == 0);
             CHECK(wrong == 0);
-            // A blocking-style wait (clWaitForEvents) gives the same.
-            cl_rt::EventSet again;
-            std::vector<std::uint32_t> host(n, 0);
-            b->read_async(dst, host.data(), n * 4, offset * 4, again);
-            again.wait("test read back", false);
-            CHECK(std::memcmp(host.data(), data.data() + offset, n * 4) == 0);
+            // Polling and clWaitForEvents give the same.
+            for (auto mode : {cl_rt::EventSet::Mode::poll, cl_rt::EventSet::Mode::block}) {
+                cl_rt::EventSet again;
+                std::vector<std::uint32_t> host(n, 0);
+                b->read_async(dst, host.data(), n * 4, offset * 4, again);
+                again.wait("test read back", mode);
+                CHECK(again.empty());
+                CHECK(std::memcmp(host.data(), data.data() + offset, n * 4) == 0);
+            }
         }
 }
 }

@@ -4,6 +4,8 @@
 #include "cl/errors.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -40,10 +42,40 @@ void EventSet::add(Device& device, cl::Event event) {
     devices_.push_back(&device);
 }
 
-void EventSet::wait(const std::string& what, bool sleep) {
+void EventSet::wait(const std::string& what, Mode mode) {
     if (events_.empty()) return;
-    for (Device* d : devices_) sleep = sleep && !d->quirks().late_transfer_callbacks;
-    if (!sleep) {
+    if (mode == Mode::callbacks)
+        for (Device* d : devices_)
+            if (d->quirks().late_transfer_callbacks) mode = Mode::poll;
+    if (mode == Mode::poll) {
+        std::vector<Device*> flushed;
+        for (Device* d : devices_)
+            if (std::find(flushed.begin(), flushed.end(), d) == flushed.end()) {
+                check(d->queue().flush(), what + " (flushing the queue)", d->label());
+                flushed.push_back(d);
+            }
+        std::size_t next = 0;  // events complete roughly in order: look at the first pending one
+        while (next < events_.size()) {
+            cl_int status = CL_QUEUED;
+            const cl_int err = clGetEventInfo(events_[next](), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status,
+                                              nullptr);
+            Device* dev = devices_[next];
+            if (err != CL_SUCCESS || status < 0) {
+                events_.clear();
+                devices_.clear();
+                check(err != CL_SUCCESS ? err : status, what, dev->label());
+            }
+            if (status == CL_COMPLETE) {
+                ++next;
+                continue;
+            }
+            std::this_thread::sleep_for(std::chrono::microseconds(20));
+        }
+        events_.clear();
+        devices_.clear();
+        return;
+    }
+    if (mode == Mode::block) {
         for (std::size_t i = 0; i < events_.size(); ++i) {
             const cl_int w = clWaitForEvents(1, &events_[i]());
             if (w != CL_SUCCESS) {

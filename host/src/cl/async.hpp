@@ -19,11 +19,13 @@ class EventSet {
 public:
     void add(Device& device, cl::Event event);
     bool empty() const { return events_.empty(); }
+    // How to wait: sleep on the events' completion callbacks; poll their status, sleeping 20 us
+    // between looks; or clWaitForEvents (which spins a core on NVIDIA).
+    enum class Mode { callbacks, poll, block };
     // Blocks until every event has completed; throws DeviceError naming `what` and the device when
-    // a command failed. The set is empty afterwards. It sleeps on the events' callbacks unless
-    // `sleep` is false or a device has late callbacks (Quirks::late_transfer_callbacks), where it
-    // waits with clWaitForEvents.
-    void wait(const std::string& what, bool sleep = true);
+    // a command failed. The set is empty afterwards. Mode callbacks becomes poll where a device's
+    // callbacks come late (Quirks::late_transfer_callbacks).
+    void wait(const std::string& what, Mode mode = Mode::callbacks);
 
 private:
     std::vector<cl::Event> events_;

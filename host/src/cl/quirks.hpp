@@ -36,8 +36,8 @@ struct Quirks {
     // NVIDIA's OpenCL (driver 580.159.04, H200): completion callbacks of transfer events (reads into
     // pinned host memory) arrive ~10 ms after the copy is done. On two H200s with 21 M particles the
     // exchange's read phase took 11.0 ms/step waiting on callbacks and 0.2 ms with clWaitForEvents
-    // (36.95 vs 48.82 ms/step; BENCHMARKS.md). Where set, EventSet waits with clWaitForEvents, a
-    // spinning wait, but the one that is on time.
+    // (36.95 vs 48.82 ms/step; BENCHMARKS.md). Where set, EventSet polls the events' status with
+    // short sleeps instead (clWaitForEvents is on time too, but spins a core).
     bool late_transfer_callbacks = false;
 };
 

@@ -294,7 +294,7 @@ std::size_t SlabDriver::redistribute_sorted() {
         auto& ps = *slabs_[d].store;
         slabs_[d].cells->enqueue_locate(ps, ps.ranges.active(), thresholds, located);
     }
-    located.wait("sorting particles before the exchange", options_.sleep_wait);
+    located.wait("sorting particles before the exchange", options_.wait_mode);
     t1.stop();
     // at(d, e, k): position in device d's sorted particles of device e's k-th column bound
     // (0 lo, 1 first, 2 end, 3 hi).
@@ -352,7 +352,7 @@ std::size_t SlabDriver::redistribute_sorted() {
             moved_bytes_ += bytes;
             slabs_[g.e].received_bytes += bytes;
         }
-        read.wait("reading particles for the neighbouring devices", options_.sleep_wait);
+        read.wait("reading particles for the neighbouring devices", options_.wait_mode);
     }
     // 3. Each device keeps its own needed range in place, takes the blocks after it and sorts again:
     //    [ghosts | owned | ghosts]. The tables' cell count and the column profile (the balancer's
@@ -383,7 +383,7 @@ std::size_t SlabDriver::redistribute_sorted() {
             for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
             s.cells->enqueue_locate(ps, ps.ranges.active(), cols, counted);
         }
-        counted.wait("sorting particles after the exchange", options_.sleep_wait);
+        counted.wait("sorting particles after the exchange", options_.wait_mode);
         for (std::size_t e = 0; e < D; ++e) {
             slabs_[e].cells->finish_tables(*slabs_[e].store, slabs_[e].store->ranges.active());
             remember_columns(slabs_[e]);
@@ -453,7 +453,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             }
             s.device->flush();
         }
-        gathered.wait("gathering particles for the neighbouring devices", options_.sleep_wait);
+        gathered.wait("gathering particles for the neighbouring devices", options_.wait_mode);
     }
     std::size_t removed = 0;
     for (auto& s : slabs_) {
@@ -492,7 +492,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             moved_bytes_ += m * kStagedBytesPerParticle;
             slabs_[b.e].received_bytes += m * kStagedBytesPerParticle;
         }
-        read.wait("reading particles for the neighbouring devices", options_.sleep_wait);
+        read.wait("reading particles for the neighbouring devices", options_.wait_mode);
     }
     {
         PhaseTimer t(phases_, "exchange: write and sort");
@@ -523,7 +523,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
             s.cells->enqueue_locate(ps, valid, cols, counted);
         }
-        counted.wait("sorting particles after the exchange", options_.sleep_wait);
+        counted.wait("sorting particles after the exchange", options_.wait_mode);
         for (std::size_t e = 0; e < D; ++e) {
             Slab& s = slabs_[e];
             auto& ps = *s.store;
@@ -555,7 +555,7 @@ StepOutcome SlabDriver::kick(double dt) {
     cl_rt::EventSet done;
     for (auto& s : slabs_)
         if (s.store->ranges.owned > 0) s.physics->enqueue_kick(*s.store, dt, done);  // idle devices rest
-    done.wait("the second kick", options_.sleep_wait);
+    done.wait("the second kick", options_.wait_mode);
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
         if (slabs_[d].store->ranges.owned == 0) continue;
         const auto k = slabs_[d].physics->kick_result();

@@ -38,8 +38,9 @@ struct DriverOptions {
     bool serialize = false;           // tests: one device's force pass at a time
     double headroom = 0.25;
     std::string staging = "sender";   // whose pinned memory transfers are staged in: sender | receiver
-    bool sleep_wait = true;
-    std::string exchange = "window";  // window: one sort per step; sort: sort, exchange, sort again           // wait for devices on event callbacks (false: clWaitForEvents)
+    // How the host waits for the devices (cl/async.hpp); callbacks become polling where they are late.
+    cl_rt::EventSet::Mode wait_mode = cl_rt::EventSet::Mode::callbacks;
+    std::string exchange = "window";  // window: one sort per step; sort: sort, exchange, sort again
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
     std::uint64_t fail_at_step = 0;  // tests: simulated device failure (clsph/simulation.hpp)
     std::size_t fail_device = 0;
