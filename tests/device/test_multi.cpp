@@ -36,6 +36,27 @@ std::map<std::uint32_t, std::size_t> by_id(const Particles& p) {
     return m;
 }
 
+// The largest position difference between two runs of the same scene, per particle id (the same
+// ids must be present in both), across periodic wraps.
+double largest_difference(const Scene& scene, const Particles& p, const Particles& ref) {
+    const auto ids = by_id(p), ref_ids = by_id(ref);
+    REQUIRE(ids.size() == p.size());  // no id twice
+    double worst = 0;
+    for (const auto& [id, i] : ids) {
+        auto it = ref_ids.find(id);
+        REQUIRE(it != ref_ids.end());  // no id lost
+        for (int k = 0; k < 3; ++k) {
+            double dx = p.position[i][k] - ref.position[it->second][k];
+            if (scene.domain.periodic[k]) {  // the same point seen from either side of the wrap
+                const double len = scene.domain.max[k] - scene.domain.min[k];
+                dx -= std::round(dx / len) * len;
+            }
+            worst = std::max(worst, std::abs(dx));
+        }
+    }
+    return worst;
+}
+
 }  // namespace
 
 TEST_SUITE("multi") {
@@ -60,21 +81,7 @@ TEST_CASE("the same scene on 1, 2 and 3 devices gives the same particles") {
         CHECK(sim.time() == doctest::Approx(ref.time()).epsilon(1e-9));
         const Particles p = sim.particles();
         REQUIRE(p.size() == pr.size());  // count (and so mass: equal masses) exact
-        const auto ids = by_id(p);
-        REQUIRE(ids.size() == p.size());  // no id twice
-        double worst = 0;
-        for (const auto& [id, i] : ids) {
-            auto it = ref_ids.find(id);
-            REQUIRE(it != ref_ids.end());  // no id lost
-            for (int k = 0; k < 3; ++k) {
-                double dx = p.position[i][k] - pr.position[it->second][k];
-                if (scene.domain.periodic[k]) {  // the same point seen from either side of the wrap
-                    const double len = scene.domain.max[k] - scene.domain.min[k];
-                    dx -= std::round(dx / len) * len;
-                }
-                worst = std::max(worst, std::abs(dx));
-            }
-        }
+        const double worst = largest_difference(scene, p, pr);
         MESSAGE(count << " devices: largest position difference from one device " << worst / dp << " dp");
         CHECK(worst < 1e-3 * dp);
         const auto shares = sim.shares();
@@ -94,7 +101,6 @@ TEST_CASE("devices going idle and back give the same particles as one device") {
     Simulation ref(scene, one);
     for (int i = 0; i < 100; ++i) ref.step();
     const Particles pr = ref.particles();
-    const auto ref_ids = by_id(pr);
     // Two devices: the second idle (the first steps alone, no exchange), then a split, then the
     // first idle, then a split again.
     Options o;
@@ -116,21 +122,7 @@ TEST_CASE("devices going idle and back give the same particles as one device") {
     }
     const Particles p = sim.particles();
     REQUIRE(p.size() == pr.size());
-    const auto ids = by_id(p);
-    REQUIRE(ids.size() == p.size());
-    double worst = 0;
-    for (const auto& [id, i] : ids) {
-        auto it = ref_ids.find(id);
-        REQUIRE(it != ref_ids.end());
-        for (int k = 0; k < 3; ++k) {
-            double dx = p.position[i][k] - pr.position[it->second][k];
-            if (scene.domain.periodic[k]) {
-                const double len = scene.domain.max[k] - scene.domain.min[k];
-                dx -= std::round(dx / len) * len;
-            }
-            worst = std::max(worst, std::abs(dx));
-        }
-    }
+    const double worst = largest_difference(scene, p, pr);
     MESSAGE("idle and back: largest position difference from one device " << worst / dp << " dp");
     CHECK(worst < 1e-3 * dp);
 }

@@ -372,18 +372,13 @@ std::size_t SlabDriver::redistribute_sorted() {
             for (const auto& g : segments) {
                 if (g.e != e) continue;
                 const std::size_t m = g.hi - g.lo;
-                s.device->write_async(ps.pos, g.base, m * f4, to * f4, counted);
-                s.device->write_async(ps.velrho, g.base + m * f4, m * f4, to * f4, counted);
-                s.device->write_async(ps.accel, g.base + 2 * m * f4, m * f4, to * f4, counted);
-                s.device->write_async(ps.id, g.base + 3 * m * f4, m * u, to * u, counted);
+                write_block(s, g.base, m, to, counted);
                 to += m;
             }
             s.cells->enqueue_sort(ps, k1 + n, k0, k1 + n);
             ps.ranges = device::ParticleRanges{before[e], mine[e], after[e]};
             s.cells->enqueue_count_cells(ps, ps.ranges.active(), counted);
-            std::vector<std::uint32_t> cols;
-            for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
-            s.cells->enqueue_locate(ps, ps.ranges.active(), cols, counted);
+            enqueue_column_positions(s, ps.ranges.active(), counted);
         }
         counted.wait("sorting particles after the exchange", options_.wait_mode);
         for (std::size_t e = 0; e < D; ++e) {
@@ -393,6 +388,24 @@ std::size_t SlabDriver::redistribute_sorted() {
         windowed_ready_ = true;
     }
     return removed;
+}
+
+void SlabDriver::write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done) {
+    // A staged block [pos | velrho | accel | id] of m particles, written at particle `to`.
+    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
+    auto& ps = *s.store;
+    s.device->write_async(ps.pos, base, m * f4, to * f4, done);
+    s.device->write_async(ps.velrho, base + m * f4, m * f4, to * f4, done);
+    s.device->write_async(ps.accel, base + 2 * m * f4, m * f4, to * f4, done);
+    s.device->write_async(ps.id, base + 3 * m * f4, m * u, to * u, done);
+}
+
+void SlabDriver::enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) {
+    // Where each owned column begins in the sorted particles [0, n): the next step's windows and
+    // the balancer's column profile (remember_columns keeps them).
+    std::vector<std::uint32_t> cols;
+    for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
+    s.cells->enqueue_locate(*s.store, n, cols, done);
 }
 
 void SlabDriver::remember_columns(Slab& s) {
@@ -509,10 +522,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 const auto& b = blocks[k];
                 if (b.e != e) continue;
                 const std::size_t m = slabs_[b.d].cells->gather_count(b.index);
-                s.device->write_async(ps.pos, at[k], m * f4, to * f4, counted);
-                s.device->write_async(ps.velrho, at[k] + m * f4, m * f4, to * f4, counted);
-                s.device->write_async(ps.accel, at[k] + 2 * m * f4, m * f4, to * f4, counted);
-                s.device->write_async(ps.id, at[k] + 3 * m * f4, m * u, to * u, counted);
+                write_block(s, at[k], m, to, counted);
                 to += m;
             }
             const std::uint32_t key_lo = column_key(need[e].lo), key_hi = need[e].hi > need[e].lo ? column_key(need[e].hi) : 0;
@@ -521,9 +531,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             const std::size_t valid = s.cells->settled()[2] + n;
             ps.ranges = device::ParticleRanges{0, valid, 0};
             s.cells->enqueue_count_cells(ps, valid, counted);
-            std::vector<std::uint32_t> cols;
-            for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(column_key(c));
-            s.cells->enqueue_locate(ps, valid, cols, counted);
+            enqueue_column_positions(s, valid, counted);
         }
         counted.wait("sorting particles after the exchange", options_.wait_mode);
         for (std::size_t e = 0; e < D; ++e) {
