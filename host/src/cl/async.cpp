@@ -44,69 +44,46 @@ void EventSet::add(Device& device, cl::Event event) {
 
 void EventSet::wait(const std::string& what, Mode mode) {
     if (events_.empty()) return;
-    if (mode == Mode::callbacks)
-        for (Device* d : devices_)
-            if (d->quirks().late_transfer_callbacks) mode = Mode::poll;
-    if (mode == Mode::poll) {
-        std::vector<Device*> flushed;
-        for (Device* d : devices_)
-            if (std::find(flushed.begin(), flushed.end(), d) == flushed.end()) {
-                check(d->queue().flush(), what + " (flushing the queue)", d->label());
-                flushed.push_back(d);
-            }
-        std::size_t next = 0;  // events complete roughly in order: look at the first pending one
-        while (next < events_.size()) {
-            cl_int status = CL_QUEUED;
-            const cl_int err = clGetEventInfo(events_[next](), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status,
-                                              nullptr);
-            Device* dev = devices_[next];
-            if (err != CL_SUCCESS || status < 0) {
-                events_.clear();
-                devices_.clear();
-                check(err != CL_SUCCESS ? err : status, what, dev->label());
-            }
-            if (status == CL_COMPLETE) {
-                ++next;
-                continue;
-            }
-            std::this_thread::sleep_for(std::chrono::microseconds(20));
-        }
-        events_.clear();
-        devices_.clear();
-        return;
+    // Whatever happens below, the set is empty afterwards.
+    std::vector<cl::Event> events;
+    std::vector<Device*> devices;
+    events.swap(events_);
+    devices.swap(devices_);
+    // Every queue involved is submitted once, so no event waits on a command still on the host.
+    std::vector<Device*> flushed;
+    for (Device* d : devices) {
+        if (std::find(flushed.begin(), flushed.end(), d) != flushed.end()) continue;
+        check(d->queue().flush(), what + " (flushing the queue)", d->label());
+        flushed.push_back(d);
+        if (mode == Mode::callbacks && d->quirks().late_transfer_callbacks) mode = Mode::poll;
     }
     if (mode == Mode::block) {
-        for (std::size_t i = 0; i < events_.size(); ++i) {
-            const cl_int w = clWaitForEvents(1, &events_[i]());
-            if (w != CL_SUCCESS) {
-                Device* failed = devices_[i];
-                events_.clear();
-                devices_.clear();
-                check(w, what, failed->label());
-            }
-        }
-        events_.clear();
-        devices_.clear();
+        for (std::size_t i = 0; i < events.size(); ++i) check(clWaitForEvents(1, &events[i]()), what, devices[i]->label());
         return;
     }
-    std::vector<Device*> flushed;
-    for (Device* d : devices_) {
-        bool seen = false;
-        for (Device* f : flushed) seen = seen || f == d;
-        if (!seen) {
-            check(d->queue().flush(), what + " (flushing the queue)", d->label());
-            flushed.push_back(d);
+    if (mode == Mode::poll) {
+        // Events complete roughly in order: look at the first pending one, sleep between looks.
+        for (std::size_t next = 0; next < events.size();) {
+            cl_int status = CL_QUEUED;
+            check(clGetEventInfo(events[next](), CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr), what,
+                  devices[next]->label());
+            check(status < 0 ? status : CL_SUCCESS, what, devices[next]->label());
+            if (status == CL_COMPLETE)
+                ++next;
+            else
+                std::this_thread::sleep_for(std::chrono::microseconds(20));
         }
+        return;
     }
     auto state = std::make_shared<WaitState>();
-    state->left = events_.size();
-    for (std::size_t i = 0; i < events_.size(); ++i) {
+    state->left = events.size();
+    for (std::size_t i = 0; i < events.size(); ++i) {
         auto* arg = new CallbackArg{state, i};
-        const cl_int err = clSetEventCallback(events_[i](), CL_COMPLETE, &on_complete, arg);
+        const cl_int err = clSetEventCallback(events[i](), CL_COMPLETE, &on_complete, arg);
         if (err != CL_SUCCESS) {
             // No callback: wait for this one the plain way.
             delete arg;
-            const cl_int w = clWaitForEvents(1, &events_[i]());
+            const cl_int w = clWaitForEvents(1, &events[i]());
             std::lock_guard<std::mutex> lock(state->m);
             if (w != CL_SUCCESS && state->worst == CL_SUCCESS) {
                 state->worst = w;
@@ -118,10 +95,8 @@ void EventSet::wait(const std::string& what, Mode mode) {
     std::unique_lock<std::mutex> lock(state->m);
     state->cv.wait(lock, [&] { return state->left == 0; });
     const cl_int worst = state->worst;
-    Device* failed = devices_[state->failed];
+    Device* failed = devices[state->failed];
     lock.unlock();
-    events_.clear();
-    devices_.clear();
     check(worst, what, failed->label());
 }
 
