@@ -208,18 +208,9 @@ std::size_t SlabDriver::redistribute() {
     std::size_t removed = 0;
     moved_ = 0;
     moved_bytes_ = 0;
-    if (D == 1) {
-        Slab& s = slabs_[0];
-        auto& ps = *s.store;
-        const auto at = s.cells->sort_particles(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned(),
-                                                {invalid});
-        removed = ps.ranges.owned - at[0];
-        ps.ranges = device::ParticleRanges{0, at[0], 0};
-        s.cells->build_tables(ps, at[0]);
-        return removed;
-    }
-    // Every device but one idle (a CPU next to a GPU, say): the busy one holds every column and
-    // steps as if alone, with no exchange; the balancer still runs and may hand columns back.
+    // One device, or every device but one idle (a CPU next to a GPU, say): the busy one holds every
+    // column and steps alone, with no exchange; with several the balancer still runs (it may hand
+    // columns back) and gets the column positions.
     if (rebalance_due_) {
         PhaseTimer t(phases_, "balance");
         rebalance(steps_);
@@ -231,22 +222,24 @@ std::size_t SlabDriver::redistribute() {
             ++busy;
             busy_slab = d;
         }
-    if (busy == 1 && slabs_[busy_slab].first_col == 0 && slabs_[busy_slab].end_col == columns()) {
+    if (D == 1 || (busy == 1 && slabs_[busy_slab].first_col == 0 && slabs_[busy_slab].end_col == columns())) {
         PhaseTimer t(phases_, "sort (one device busy)");
         Slab& s = slabs_[busy_slab];
         auto& ps = *s.store;
         std::vector<std::uint32_t> thresholds;
-        for (std::size_t c = s.first_col; c <= s.end_col; ++c) thresholds.push_back(column_key(c));
+        for (std::size_t c = s.first_col; c <= s.end_col && D > 1; ++c) thresholds.push_back(column_key(c));
         thresholds.push_back(invalid);
         const auto at = s.cells->sort_particles(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned(),
                                                 thresholds);
         removed = ps.ranges.owned - at.back();
         ps.ranges = device::ParticleRanges{0, at.back(), 0};
         s.cells->build_tables(ps, at.back());
-        s.column_at.assign(at.begin(), at.end() - 1);
-        s.columns_first = s.first_col;
-        s.columns_end = s.end_col;
-        windowed_ready_ = true;
+        if (D > 1) {
+            s.column_at.assign(at.begin(), at.end() - 1);
+            s.columns_first = s.first_col;
+            s.columns_end = s.end_col;
+            windowed_ready_ = true;
+        }
         return removed;
     }
     if (options_.exchange != "sort" && windowed_ready_) {
@@ -310,10 +303,9 @@ std::size_t SlabDriver::redistribute_sorted() {
         removed += slabs_[d].store->ranges.owned - valid;
     }
     // 2. Every device's share of every other device's needs, read into pinned host memory as one
-    //    block per (sender, receiver) pair: [pos | velrho | accel | id]. Ghosts need no acceleration
-    //    (only owned particles are kicked), so it is read for the receiver's owned columns only.
+    //    block per (sender, receiver) pair: [pos | velrho | accel | id].
     //    The blocks live in the sender's pinned memory or in the receiver's (options_.staging).
-    struct Segment { std::size_t d, e, lo, first, end, hi; unsigned char* base; };
+    struct Segment { std::size_t d, e, lo, hi; unsigned char* base; };
     std::vector<Segment> segments;
     std::vector<std::size_t> incoming(D, 0), before(D, 0), mine(D, 0), after(D, 0), staged(D, 0);
     const bool at_sender = options_.staging != "receiver";
@@ -323,7 +315,7 @@ std::size_t SlabDriver::redistribute_sorted() {
             mine[e] += at(d, e, 2) - at(d, e, 1);
             after[e] += at(d, e, 3) - at(d, e, 2);
             if (d == e || at(d, e, 3) == at(d, e, 0)) continue;
-            segments.push_back({d, e, at(d, e, 0), at(d, e, 1), at(d, e, 2), at(d, e, 3), nullptr});
+            segments.push_back({d, e, at(d, e, 0), at(d, e, 3), nullptr});
             incoming[e] += at(d, e, 3) - at(d, e, 0);
             staged[at_sender ? d : e] += at(d, e, 3) - at(d, e, 0);
         }
@@ -337,22 +329,12 @@ std::size_t SlabDriver::redistribute_sorted() {
             used[owner] += (g.hi - g.lo) * kStagedBytesPerParticle;
         }
     }
-    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
     {
         PhaseTimer t(phases_, "exchange: read to pinned host");
         cl_rt::EventSet read;
         for (const auto& g : segments) {
-            const std::size_t m = g.hi - g.lo;
-            auto& ps = *slabs_[g.d].store;
-            auto& dev = *slabs_[g.d].device;
-            dev.read_async(ps.pos, g.base, m * f4, g.lo * f4, read);
-            dev.read_async(ps.velrho, g.base + m * f4, m * f4, g.lo * f4, read);
-            dev.read_async(ps.accel, g.base + 2 * m * f4 + (g.first - g.lo) * f4, (g.end - g.first) * f4, g.first * f4, read);
-            dev.read_async(ps.id, g.base + 3 * m * f4, m * u, g.lo * u, read);
-            moved_ += m;
-            const std::size_t bytes = m * (2 * f4 + u) + (g.end - g.first) * f4;
-            moved_bytes_ += bytes;
-            slabs_[g.e].received_bytes += bytes;
+            const auto& ps = *slabs_[g.d].store;
+            read_block(g.d, {ps.pos, ps.velrho, ps.accel, ps.id}, g.lo, g.hi - g.lo, g.base, g.e, read);
         }
         read.wait("reading particles for the neighbouring devices", options_.wait_mode);
     }
@@ -388,6 +370,21 @@ std::size_t SlabDriver::redistribute_sorted() {
         windowed_ready_ = true;
     }
     return removed;
+}
+
+void SlabDriver::read_block(std::size_t sender, const BlockSource& src, std::size_t from, std::size_t m,
+                            unsigned char* base, std::size_t receiver, cl_rt::EventSet& done) {
+    // Particles [from, from + m) of the sender's four arrays into a staged block
+    // [pos | velrho | accel | id] (acceleration too: arrivals need it for their second kick).
+    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
+    auto& dev = *slabs_[sender].device;
+    dev.read_async(src.pos, base, m * f4, from * f4, done);
+    dev.read_async(src.velrho, base + m * f4, m * f4, from * f4, done);
+    dev.read_async(src.accel, base + 2 * m * f4, m * f4, from * f4, done);
+    dev.read_async(src.id, base + 3 * m * f4, m * u, from * u, done);
+    moved_ += m;
+    moved_bytes_ += m * kStagedBytesPerParticle;
+    slabs_[receiver].received_bytes += m * kStagedBytesPerParticle;
 }
 
 void SlabDriver::write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done) {
@@ -479,7 +476,6 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
         removed += s.cells->settled()[0];
     }
     // Read every block into its sender's pinned memory: [pos | velrho | accel | id].
-    const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
     std::vector<std::size_t> staged(D, 0), incoming(D, 0);
     std::vector<unsigned char*> at(blocks.size());
     for (const auto& b : blocks) {
@@ -495,17 +491,11 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
         for (std::size_t k = 0; k < blocks.size(); ++k) {
             const auto& b = blocks[k];
             auto& cells = *slabs_[b.d].cells;
-            auto& dev = *slabs_[b.d].device;
             const std::size_t m = cells.gather_count(b.index);
             at[k] = staging_[b.d]->data() + used[b.d];
             used[b.d] += m * kStagedBytesPerParticle;
-            dev.read_async(cells.outbox_pos, at[k], m * f4, b.base * f4, read);
-            dev.read_async(cells.outbox_velrho, at[k] + m * f4, m * f4, b.base * f4, read);
-            dev.read_async(cells.outbox_accel, at[k] + 2 * m * f4, m * f4, b.base * f4, read);
-            dev.read_async(cells.outbox_id, at[k] + 3 * m * f4, m * u, b.base * u, read);
-            moved_ += m;
-            moved_bytes_ += m * kStagedBytesPerParticle;
-            slabs_[b.e].received_bytes += m * kStagedBytesPerParticle;
+            read_block(b.d, {cells.outbox_pos, cells.outbox_velrho, cells.outbox_accel, cells.outbox_id}, b.base, m, at[k],
+                       b.e, read);
         }
         read.wait("reading particles for the neighbouring devices", options_.wait_mode);
     }

@@ -101,6 +101,9 @@ private:
     std::size_t redistribute_sorted();   // sort, exchange ranges, sort again (first step, fallback)
     std::optional<std::size_t> redistribute_windowed();  // one sort per step; nullopt: fall back
     void remember_columns(Slab& s);
+    struct BlockSource { const cl_rt::Buffer &pos, &velrho, &accel, &id; };
+    void read_block(std::size_t sender, const BlockSource& src, std::size_t from, std::size_t m, unsigned char* base,
+                    std::size_t receiver, cl_rt::EventSet& done);
     void write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done);
     void forces();
