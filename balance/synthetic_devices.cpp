@@ -1,6 +1,7 @@
 #include "balance/synthetic_devices.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -41,6 +42,10 @@ std::vector<SlabCost> SyntheticDevices::true_costs() const {
     costs[d] = {devices_[d].fixed_seconds, devices_[d].seconds_per_unit,
                 devices_[d].capacity_particles};
   return costs;
+}
+
+double total_work(const ColumnProfile& profile) {
+  return std::accumulate(profile.work.begin(), profile.work.end(), 0.0);
 }
 
 ClosedLoop::ClosedLoop(SyntheticDevices devices_, ColumnProfile profile_, Options options)

@@ -65,6 +65,9 @@ struct ClosedLoop {
   std::vector<DeviceSample> last_samples;
 };
 
+// The work of the whole domain.
+double total_work(const ColumnProfile& profile);
+
 // Devices whose per-unit costs step geometrically from `fastest_per_unit` to `ratio` times it.
 // All share one fixed cost (launch and synchronisation overhead does not scale with a device's
 // throughput): `fixed_share` of the fastest device's time at an equal share of `total_work`.

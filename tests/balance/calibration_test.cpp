@@ -17,10 +17,6 @@ constexpr double fast_per_unit = 1e-8;
 
 ColumnProfile test_profile() { return dam_break_profile(columns, columns / 2); }
 
-double total_work(const ColumnProfile& profile) {
-  return std::accumulate(profile.work.begin(), profile.work.end(), 0.0);
-}
-
 double makespan(const SyntheticDevices& devices, const std::vector<std::size_t>& cuts, const ColumnProfile& profile) {
   const auto s = devices.true_seconds(cuts, profile);
   return *std::max_element(s.begin(), s.end());

@@ -26,10 +26,6 @@ constexpr double jitter = 0.05;
 constexpr double fastest_per_unit = 1e-8;  // seconds per unit of work
 constexpr double fixed_share = 0.2;        // of a device's time at an equal share of the work
 
-double total_work(const ColumnProfile& profile) {
-  return std::accumulate(profile.work.begin(), profile.work.end(), 0.0);
-}
-
 // D devices on a speed ladder with the given slowest:fastest ratio, in a random order along the
 // axis (the slowest device may be anywhere).
 ClosedLoop ladder_loop(std::size_t devices, double ratio, std::mt19937_64& random) {

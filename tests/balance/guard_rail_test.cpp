@@ -18,10 +18,6 @@ constexpr double fast_per_unit = 1e-8;
 
 ColumnProfile test_profile() { return dam_break_profile(columns, columns / 2); }
 
-double total_work(const ColumnProfile& profile) {
-  return std::accumulate(profile.work.begin(), profile.work.end(), 0.0);
-}
-
 std::size_t total_particles(const ColumnProfile& profile) {
   return std::accumulate(profile.particles.begin(), profile.particles.end(), std::size_t{0});
 }
