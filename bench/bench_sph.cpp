@@ -12,20 +12,68 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <map>
 #include <iostream>
+
+namespace {
+// Writes a timeline (device, command, start ns, end ns) as CSV and prints, per device, where it
+// idles: the gaps between one command's end and the next one's start, summed by the command that
+// ends the gap (the wait before it), in ms per step over `steps` steps.
+void write_trace(const std::string& path, std::vector<clsph::CommandSpan> spans, double steps) {
+    std::ofstream out(path);
+    if (!out) throw clsph::Error("--trace: cannot write " + path);
+    out << "device,command,start_ns,end_ns\n";
+    std::stable_sort(spans.begin(), spans.end(), [](const clsph::CommandSpan& a, const clsph::CommandSpan& b) {
+        return a.device != b.device ? a.device < b.device : a.start_ns < b.start_ns;
+    });
+    std::map<std::string, std::map<std::string, double>> idle;  // device -> next command -> seconds
+    std::map<std::string, double> busy_span;
+    std::uint64_t last_end = 0;
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        const auto& s = spans[i];
+        out << '"' << s.device << "\"," << s.name << ',' << s.start_ns << ',' << s.end_ns << '\n';
+        const bool first = i == 0 || spans[i - 1].device != s.device;
+        if (!first && s.start_ns > last_end) idle[s.device][s.name] += static_cast<double>(s.start_ns - last_end) * 1e-9;
+        if (first) {
+            busy_span[s.device] -= static_cast<double>(s.start_ns) * 1e-9;
+            last_end = s.end_ns;
+        }
+        last_end = std::max(last_end, s.end_ns);
+        if (i + 1 == spans.size() || spans[i + 1].device != s.device) busy_span[s.device] += static_cast<double>(last_end) * 1e-9;
+    }
+    std::printf("\nidle time per device, by the command that ends the wait (ms/step; trace in %s):\n", path.c_str());
+    for (auto& [device, by] : idle) {
+        std::vector<std::pair<double, std::string>> rows;
+        double total = 0;
+        for (auto& [name, sec] : by) {
+            rows.push_back({sec, name});
+            total += sec;
+        }
+        std::sort(rows.rbegin(), rows.rend());
+        std::printf("  %s: %.3f ms/step idle of %.3f ms/step from first to last command\n", device.c_str(),
+                    1e3 * total / steps, 1e3 * busy_span[device] / steps);
+        for (std::size_t k = 0; k < rows.size() && k < 8; ++k)
+            std::printf("    before %s: %.3f\n", rows[k].second.c_str(), 1e3 * rows[k].first / steps);
+    }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"clsph SPHERIC-2 benchmark"};
     std::string devices;
     double dp = 0.006, until = 0.1;
     bool coarse = false;
-    std::string balance = "dynamic", balance_log;
+    std::string balance = "dynamic", balance_log, trace;
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
     app.add_flag("--coarse", coarse, "coarse-grained interaction kernel");
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
+    app.add_option("--trace", trace, "CSV of every command's device start and end (ns) in the timed window, and a "
+                                     "summary of where each device idles");
     CLI11_PARSE(app, argc, argv);
     try {
         using clock = std::chrono::steady_clock;
@@ -37,6 +85,7 @@ int main(int argc, char** argv) {
         opts.coarse = coarse;
         opts.balance = balance;
         opts.balance_log = balance_log;
+        opts.trace = !trace.empty();
         clsph::Simulation sim(scene, opts);
         const double setup = std::chrono::duration<double>(clock::now() - t0).count();
         const auto p = sim.particles();
@@ -61,6 +110,7 @@ int main(int argc, char** argv) {
             }
         }
         sim.profile();  // discard set-up launches from the breakdown
+        sim.take_trace();
         std::size_t received0 = 0;
         for (const auto& sh : sim.shares()) received0 += sh.received_bytes;
         const auto t1 = clock::now();
@@ -74,6 +124,7 @@ int main(int argc, char** argv) {
         std::printf("**%.2f ms/step**, %.0f wall s per simulated s, %.3g particle-steps/s\n\n", 1e3 * wall / steps,
                     wall / sim.time(), static_cast<double>(p.size()) * steps / wall);
         auto prof = sim.profile();
+        if (!trace.empty()) write_trace(trace, sim.take_trace(), steps);
         double total = 0;
         for (const auto& k : prof) total += k.seconds;
         std::sort(prof.begin(), prof.end(), [](const auto& a, const auto& b) { return a.seconds > b.seconds; });

@@ -79,6 +79,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
         d->profiler().enable(options.profile);
+        d->profiler().trace(options.profile && options.trace);
         devs.push_back(d.get());
     }
     multi::DriverOptions dopt;
@@ -241,6 +242,13 @@ std::vector<KernelTime> Simulation::profile() {
     std::vector<KernelTime> out;
     for (auto& d : impl_->devices)
         for (const auto& [name, st] : d->profiler().stats()) out.push_back({name, d->label(), st.calls, st.seconds});
+    return out;
+}
+
+std::vector<CommandSpan> Simulation::take_trace() {
+    std::vector<CommandSpan> out;
+    for (auto& d : impl_->devices)
+        for (auto& t : d->profiler().take_trace()) out.push_back({d->label(), std::move(t.name), t.start, t.end});
     return out;
 }
 

@@ -15,6 +15,7 @@ namespace clsph {
 struct Options {
     std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
     bool profile = false;      // per-kernel times (profile())
+    bool trace = false;        // with profile: every command's device timestamps too (take_trace())
     bool coarse = false;       // coarse-grained (work-group per cell) interaction kernel
     double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
     std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
@@ -69,6 +70,14 @@ struct KernelTime {
     double seconds = 0.0;
 };
 
+// One command (kernel or transfer) on one device: its start and end on the device's own clock (ns;
+// clocks of different devices are not comparable).
+struct CommandSpan {
+    std::string device;
+    std::string name;
+    std::uint64_t start_ns = 0, end_ns = 0;
+};
+
 struct MemoryReport {
     std::string device;
     std::size_t particles = 0;
@@ -103,7 +112,8 @@ public:
     std::vector<ProbeSample> sample_probes();
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
-    std::vector<KernelTime> host_phases() const;  // several devices: host wall time per step phase
+    std::vector<KernelTime> host_phases() const;
+    std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)  // several devices: host wall time per step phase
     std::vector<MemoryReport> memory() const;
 
     struct Impl;

@@ -69,6 +69,7 @@ void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::si
     if (!bytes) return;
     cl::Event ev;
     check(queue_.enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev), "reading a buffer", label_);
+    if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.read", ev);
     done.add(*this, std::move(ev));
 }
 
@@ -76,6 +77,7 @@ void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::s
     if (!bytes) return;
     cl::Event ev;
     check(queue_.enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev), "writing a buffer", label_);
+    if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.write", ev);
     done.add(*this, std::move(ev));
 }
 

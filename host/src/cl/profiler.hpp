@@ -4,11 +4,18 @@
 #include "cl/cl.hpp"
 
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace clsph::cl_rt {
+
+// One profiled command's device timestamps (ns, the device's own clock): a timeline.
+struct TraceSpan {
+    std::string name;
+    std::uint64_t start = 0, end = 0;
+};
 
 struct KernelStats {
     std::size_t calls = 0;
@@ -32,6 +39,9 @@ public:
     void collect();
     const std::map<std::string, KernelStats>& stats() { collect(); return stats_; }
     void clear() { pending_.clear(); stats_.clear(); }
+    // With tracing on, collect() also keeps every command's start and end (see take_trace()).
+    void trace(bool on) { tracing_ = on; }
+    std::vector<TraceSpan> take_trace() { collect(); return std::move(trace_); }
 
 private:
     struct Pending { std::string name; cl::Event event; };
@@ -39,6 +49,8 @@ private:
     bool enabled_ = false;
     std::vector<Pending> pending_;
     std::map<std::string, KernelStats> stats_;
+    bool tracing_ = false;
+    std::vector<TraceSpan> trace_;
 };
 
 }  // namespace clsph::cl_rt
