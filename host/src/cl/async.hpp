@@ -7,6 +7,7 @@
 #pragma once
 #include "cl/cl.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -44,6 +45,7 @@ public:
     // At least `bytes` (with `headroom` extra when it has to grow); returns true if it reallocated.
     bool reserve(Device& device, std::size_t bytes, double headroom = 0.25);
     unsigned char* data() { return data_; }
+    const unsigned char* data() const { return data_; }
     std::size_t bytes() const { return bytes_; }
 
 private:
@@ -52,6 +54,33 @@ private:
     cl::Buffer buffer_;
     unsigned char* data_ = nullptr;
     std::size_t bytes_ = 0;
+};
+
+// A small array in pinned host memory: the target of the reads (and the source of the writes) the
+// host waits for every step — counters, counts, reductions, searched positions. NVIDIA stages
+// transfers to and from pageable memory through a host thread, which measured 0.1-0.3 ms before
+// the next command starts on the device. resize() keeps nothing when it has to grow.
+template <class T>
+class PinnedArray {
+public:
+    void resize(Device& device, std::size_t n) {
+        pinned_.reserve(device, std::max<std::size_t>(n, 1) * sizeof(T), 0.5);
+        n_ = n;
+    }
+    T* data() { return reinterpret_cast<T*>(pinned_.data()); }
+    const T* data() const { return reinterpret_cast<const T*>(pinned_.data()); }
+    std::size_t size() const { return n_; }
+    bool empty() const { return n_ == 0; }
+    T& operator[](std::size_t i) { return data()[i]; }
+    const T& operator[](std::size_t i) const { return data()[i]; }
+    const T* begin() const { return data(); }
+    const T* end() const { return data() + n_; }
+    const T& front() const { return data()[0]; }
+    const T& back() const { return data()[n_ - 1]; }
+
+private:
+    PinnedHost pinned_;
+    std::size_t n_ = 0;
 };
 
 }  // namespace clsph::cl_rt

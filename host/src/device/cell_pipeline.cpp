@@ -2,6 +2,8 @@
 
 #include "cl/errors.hpp"
 
+#include <algorithm>
+
 namespace clsph::device {
 
 CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
@@ -110,14 +112,16 @@ void CellPipeline::enqueue_locate(ParticleStore& ps, std::size_t n_all, const st
                                   cl_rt::EventSet& done) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
-    located_host_.assign(thresholds.size(), 0);
+    located_host_.resize(d, thresholds.size());
+    std::fill(located_host_.data(), located_host_.data() + thresholds.size(), 0u);
     if (n == 0 || thresholds.empty()) return;
     const std::size_t t = thresholds.size();
     if (thresholds_.bytes() < t * sizeof(cl_uint)) {
         thresholds_ = d.alloc(t * sizeof(cl_uint), "key thresholds");
         located_ = d.alloc(t * sizeof(cl_uint), "located keys");
     }
-    thresholds_host_ = thresholds;
+    thresholds_host_.resize(d, t);
+    std::copy(thresholds.begin(), thresholds.end(), thresholds_host_.data());
     d.write_async(thresholds_, thresholds_host_.data(), t * sizeof(cl_uint), 0, done);
     locate_k_.setArg(0, static_cast<cl_uint>(t));
     locate_k_.setArg(1, n);
@@ -138,7 +142,8 @@ std::size_t CellPipeline::build_tables(ParticleStore& ps, std::size_t n_valid) {
 void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n_valid, cl_rt::EventSet& done) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_valid);
-    cell_count_host_ = 0;
+    cell_count_host_.resize(d, 1);
+    cell_count_host_[0] = 0;
     if (n == 0) return;
     // Compaction of non-empty cells: flags, scan (in place, n + 1 entries), scatter.
     flag_k_.setArg(0, n);
@@ -146,7 +151,7 @@ void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n_valid, c
     flag_k_.setArg(2, ps.vals.get());
     d.launch("cells.flag", flag_k_, n, wg_);
     scan_.exclusive(ps.vals, ps.vals, n);
-    d.read_async(ps.vals, &cell_count_host_, sizeof(cl_uint), n * sizeof(cl_uint), done);
+    d.read_async(ps.vals, cell_count_host_.data(), sizeof(cl_uint), n * sizeof(cl_uint), done);
 }
 
 std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) {
@@ -154,7 +159,7 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) 
     const cl_uint n = static_cast<cl_uint>(n_valid);
     cells_ = 0;
     if (n == 0) return 0;
-    const cl_uint k = cell_count_host_;
+    const cl_uint k = cell_count_host_.empty() ? 0 : cell_count_host_[0];
     reserve_cells(k);
     scatter_k_.setArg(0, n);
     scatter_k_.setArg(1, ps.keys.get());
@@ -179,7 +184,8 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n_valid) 
 
 void CellPipeline::enqueue_settle(ParticleStore& ps, std::uint32_t key_lo, std::uint32_t key_hi, cl_rt::EventSet& done) {
     auto& d = device_;
-    counters_host_ = {0, 0, 0};
+    counters_host_.resize(d, 3);
+    std::fill(counters_host_.data(), counters_host_.data() + 3, 0u);
     if (ps.ranges.owned == 0) return;  // an idle device: nothing to settle, no round trip
     if (!counters_) counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
     const cl_uint zero = 0;
@@ -197,7 +203,8 @@ void CellPipeline::enqueue_settle(ParticleStore& ps, std::uint32_t key_lo, std::
 
 void CellPipeline::begin_gathers(std::size_t blocks, std::size_t particles) {
     auto& d = device_;
-    gather_counts_.assign(blocks, 0);
+    gather_counts_.resize(d, blocks);
+    std::fill(gather_counts_.data(), gather_counts_.data() + blocks, 0u);
     if (particles > outbox_capacity_ || !outbox_pos) {
         const std::size_t cap = particles + particles / 4 + 1024;
         const std::size_t f4 = 4 * sizeof(cl_float);
@@ -243,7 +250,8 @@ void CellPipeline::enqueue_gather(ParticleStore& ps, std::size_t first, std::siz
     gather_range_k_.setArg(13, outbox_id.get());
     d.launch("exchange.gather", gather_range_k_, n, wg_);
     // In-order queue: this reads the total before the next block's scan overwrites it.
-    d.read_async(flags_, &gather_counts_.at(block), sizeof(cl_uint), n * sizeof(cl_uint), done);
+    if (block >= gather_counts_.size()) throw Error("enqueue_gather: block " + std::to_string(block) + " not begun");
+    d.read_async(flags_, &gather_counts_[block], sizeof(cl_uint), n * sizeof(cl_uint), done);
 }
 
 void CellPipeline::mark_invalid(ParticleStore& ps, std::size_t first, std::size_t end) {

@@ -8,6 +8,7 @@
 // After run(), particles outside the domain are gone (counted), and vals holds each particle's
 // cell index (the fine-grained neighbour loop reads it).
 #pragma once
+#include "cl/async.hpp"
 #include "cl/device.hpp"
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
@@ -47,20 +48,20 @@ public:
     // cells (keys in pos.w, nothing moved), reading back how many left the domain, how many moved
     // more than one column and how many now have a key in [key_lo, key_hi) (settled()).
     void enqueue_settle(ParticleStore& store, std::uint32_t key_lo, std::uint32_t key_hi, cl_rt::EventSet& done);
-    std::array<std::uint32_t, 3> settled() const { return counters_host_; }
+    std::array<std::uint32_t, 3> settled() const { return {counters_host_[0], counters_host_[1], counters_host_[2]}; }
     // Gathers, for each receiving device, the particles of a window [first, end) whose key lies in
     // [key_lo, key_hi) into the outbox buffers at `base`, in order; their count is read into
     // gather_count(block). begin_gathers sizes the outbox and the counts first.
     void begin_gathers(std::size_t blocks, std::size_t particles);
     void enqueue_gather(ParticleStore& store, std::size_t first, std::size_t end, std::uint32_t key_lo,
                         std::uint32_t key_hi, std::size_t base, std::size_t block, cl_rt::EventSet& done);
-    std::size_t gather_count(std::size_t block) const { return gather_counts_.at(block); }
+    std::size_t gather_count(std::size_t block) const { return block < gather_counts_.size() ? gather_counts_[block] : 0; }
     cl_rt::Buffer outbox_pos, outbox_velrho, outbox_accel, outbox_id;
     std::vector<std::size_t> locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds);
     // locate() without blocking: the positions are read into located() once `done` is waited for.
     void enqueue_locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds,
                         cl_rt::EventSet& done);
-    const std::vector<std::uint32_t>& located() const { return located_host_; }
+    const cl_rt::PinnedArray<std::uint32_t>& located() const { return located_host_; }
     // Cell tables over the sorted, valid particles [0, n); returns the number of non-empty cells.
     std::size_t build_tables(ParticleStore& store, std::size_t n);
     // build_tables in two halves, for several devices at once: enqueue the flags and their scan with
@@ -86,14 +87,13 @@ private:
     std::size_t wg_;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_;
     cl_rt::Buffer counters_, flags_;
-    std::array<std::uint32_t, 3> counters_host_{};
-    std::vector<std::uint32_t> gather_counts_;
+    // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).
+    cl_rt::PinnedArray<std::uint32_t> counters_host_, gather_counts_;
     std::size_t outbox_capacity_ = 0;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
-    std::vector<std::uint32_t> thresholds_host_, located_host_;  // stay alive while reads are in flight
-    cl_uint cell_count_host_ = 0;
+    cl_rt::PinnedArray<std::uint32_t> thresholds_host_, located_host_, cell_count_host_;
 };
 
 }  // namespace clsph::device

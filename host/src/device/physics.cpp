@@ -140,21 +140,24 @@ void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) 
     kick_k_.setArg(9, bad_.get());
     device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
     ps.accel.swap(ps.scratch);
-    partials_host_.assign(kick_groups_ * 4, 0.0f);
-    bad_host_ = none;
-    device_.read_async(partials_, partials_host_.data(), partials_host_.size() * sizeof(float), 0, done);
-    device_.read_async(bad_, &bad_host_, sizeof(cl_uint), 0, done);
+    partials_host_.resize(device_, kick_groups_ * 4);
+    std::fill(partials_host_.data(), partials_host_.data() + kick_groups_ * 4, 0.0f);
+    bad_host_.resize(device_, 1);
+    bad_host_[0] = none;
+    device_.read_async(partials_, partials_host_.data(), kick_groups_ * 4 * sizeof(float), 0, done);
+    device_.read_async(bad_, bad_host_.data(), sizeof(cl_uint), 0, done);
 }
 
 KickResult Physics::kick_result() const {
     KickResult r;
+    if (partials_host_.size() < kick_groups_ * 4 || bad_host_.empty()) return r;  // no kick enqueued yet
     for (std::size_t g = 0; g < kick_groups_; ++g) {
         r.max_speed2 = std::max(r.max_speed2, static_cast<double>(partials_host_[4 * g]));
         r.max_accel2 = std::max(r.max_accel2, static_cast<double>(partials_host_[4 * g + 1]));
         r.kinetic_energy += partials_host_[4 * g + 2];
         r.fluid += static_cast<std::size_t>(partials_host_[4 * g + 3]);
     }
-    if (bad_host_ != 0xffffffffu) r.bad_index = bad_host_;
+    if (bad_host_[0] != 0xffffffffu) r.bad_index = bad_host_[0];
     return r;
 }
 

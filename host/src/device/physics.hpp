@@ -1,6 +1,7 @@
 // The WCSPH physics of one device: the constants (SphParams), the force pass (and the summation
 // density pass), Leap-frog kicks with the reductions that choose the next time step, and probes.
 #pragma once
+#include "cl/async.hpp"
 #include "cl/device.hpp"
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
@@ -50,8 +51,9 @@ private:
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
-    std::vector<float> partials_host_;  // read targets of enqueue_kick
-    cl_uint bad_host_ = 0xffffffffu;
+    // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
+    cl_rt::PinnedArray<float> partials_host_;
+    cl_rt::PinnedArray<cl_uint> bad_host_;
 };
 
 }  // namespace clsph::device
