@@ -30,6 +30,14 @@ private:
     bool stopped_ = false;
 };
 
+// The device's profiled total for one launch name since the profiler was last cleared (waits for
+// the launches still pending).
+double profiled_seconds(cl_rt::Device& device, const std::string& name) {
+    const auto& st = device.profiler().stats();
+    auto it = st.find(name);
+    return it == st.end() ? 0.0 : it->second.seconds;
+}
+
 balance::Mode mode_of(const std::string& m) {
     if (auto mode = balance::mode_from_string(m)) return *mode;
     throw Error("--balance: unknown mode '" + m + "' (use dynamic, static or off)");
@@ -147,13 +155,10 @@ void SlabDriver::calibrate(const Particles& p, const std::vector<std::uint32_t>&
             s.cells->run(*s.store);
             double seconds = 0;
             for (int round = 0; round < 2; ++round) {  // the first compiles and warms up
-                const auto& st = s.device->profiler().stats();
-                auto it = st.find("sph.forces");
-                const double before = it == st.end() ? 0.0 : it->second.seconds;
+                const double before = profiled_seconds(*s.device, "sph.forces");
                 for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
                 s.device->finish();
-                const auto& st2 = s.device->profiler().stats();
-                seconds = st2.at("sph.forces").seconds - before;
+                seconds = profiled_seconds(*s.device, "sph.forces") - before;
             }
             if (work > 0 && seconds > 0) points.push_back({work, seconds});
             if (sample.size() >= valid || want >= (std::size_t{1} << 22) || (points.size() >= 2 && seconds >= 0.02)) break;
@@ -502,11 +507,14 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
     {
         PhaseTimer t(phases_, "exchange: write and sort");
         cl_rt::EventSet counted;
+        // Every device's writes first: a write from memory pinned in another device's context may
+        // hold the host until it is done (NVIDIA), and the next device should not wait for that
+        // and for this device's sort launches as well.
         for (std::size_t e = 0; e < D; ++e) {
             Slab& s = slabs_[e];
             auto& ps = *s.store;
-            const std::size_t active = ps.ranges.active(), n = incoming[e];
-            ps.reserve(active + n);
+            const std::size_t active = ps.ranges.active();
+            ps.reserve(active + incoming[e]);
             std::size_t to = active;
             for (std::size_t k = 0; k < blocks.size(); ++k) {
                 const auto& b = blocks[k];
@@ -515,6 +523,12 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 write_block(s, at[k], m, to, counted);
                 to += m;
             }
+            s.device->flush();
+        }
+        for (std::size_t e = 0; e < D; ++e) {
+            Slab& s = slabs_[e];
+            auto& ps = *s.store;
+            const std::size_t active = ps.ranges.active(), n = incoming[e];
             const std::uint32_t key_lo = column_key(need[e].lo), key_hi = need[e].hi > need[e].lo ? column_key(need[e].hi) : 0;
             s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
                                   false);
@@ -576,6 +590,9 @@ StepOutcome SlabDriver::start() {
     forces();
     StepOutcome out = kick(0.0);
     out.removed = removed;
+    for (auto& s : slabs_) {  // the first step's force time counts from here
+        s.force_total_seen = profiled_seconds(*s.device, "sph.forces");
+    }
     return out;
 }
 
@@ -597,13 +614,6 @@ StepOutcome SlabDriver::step(double dt) {
     for (auto& s : slabs_) s.physics->kick_drift(*s.store, dt);
     const std::size_t removed = redistribute();
     StepOutcome out;
-    std::vector<double> before(slabs_.size());
-    for (std::size_t d = 0; d < slabs_.size(); ++d)
-        if (slabs_.size() > 1) {
-            const auto& st = slabs_[d].device->profiler().stats();
-            auto it = st.find("sph.forces");
-            before[d] = it == st.end() ? 0.0 : it->second.seconds;
-        }
     {
         PhaseTimer t(phases_, "forces and kick");
         forces();
@@ -612,10 +622,12 @@ StepOutcome SlabDriver::step(double dt) {
     out.removed = removed;
     ++steps_;
     if (slabs_.size() > 1) {
-        for (std::size_t d = 0; d < slabs_.size(); ++d) {
-            const auto& st = slabs_[d].device->profiler().stats();
-            auto it = st.find("sph.forces");
-            slabs_[d].force_seconds = (it == st.end() ? 0.0 : it->second.seconds) - before[d];
+        // This step's force pass: the growth of the profiler's total since the last step (read
+        // after the kick's wait; reading it before the force pass would wait for the queue).
+        for (auto& s : slabs_) {
+            const double total = profiled_seconds(*s.device, "sph.forces");
+            s.force_seconds = total - (total >= s.force_total_seen ? s.force_total_seen : 0.0);  // 0: cleared
+            s.force_total_seen = total;
         }
         rebalance_due_ = !options_.cut_schedule;  // at the next step's sort
     }
