@@ -38,6 +38,7 @@ void CL_CALLBACK on_complete(cl_event, cl_int status, void* user) {
 }  // namespace
 
 void EventSet::add(Device& device, cl::Event event) {
+    std::lock_guard<std::mutex> lock(mutex_);
     events_.push_back(std::move(event));
     devices_.push_back(&device);
 }
@@ -47,8 +48,11 @@ void EventSet::wait(const std::string& what, Mode mode) {
     // Whatever happens below, the set is empty afterwards.
     std::vector<cl::Event> events;
     std::vector<Device*> devices;
-    events.swap(events_);
-    devices.swap(devices_);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        events.swap(events_);
+        devices.swap(devices_);
+    }
     // Every queue involved is submitted once, so no event waits on a command still on the host.
     std::vector<Device*> flushed;
     for (Device* d : devices) {

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ public:
     void wait(const std::string& what, Mode mode = Mode::callbacks);
 
 private:
+    std::mutex mutex_;  // add() may be called from one host thread per device
     std::vector<cl::Event> events_;
     std::vector<Device*> devices_;  // of each event, for the flush and the error message
 };

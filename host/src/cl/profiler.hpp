@@ -37,6 +37,9 @@ public:
     }
     // Waits for pending events and folds their times into the totals.
     void collect();
+    // Folds in the pending events that have completed, up to the first that has not, without
+    // waiting: the host can do this while a long kernel runs, so a later collect() is short.
+    void collect_finished();
     const std::map<std::string, KernelStats>& stats() { collect(); return stats_; }
     void clear() { pending_.clear(); stats_.clear(); }
     // With tracing on, collect() also keeps every command's start and end (see take_trace()).
@@ -45,6 +48,7 @@ public:
 
 private:
     struct Pending { std::string name; cl::Event event; };
+    void fold(Pending& p);
     bool host_timed_;
     bool enabled_ = false;
     std::vector<Pending> pending_;

@@ -440,7 +440,8 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
     {
         PhaseTimer t(phases_, "exchange: settle and gather");
         cl_rt::EventSet gathered;
-        for (std::size_t d = 0; d < D; ++d) {
+        std::vector<std::vector<Block>> sent(D);
+        for_each_device([&](std::size_t d) {
             Slab& s = slabs_[d];
             auto& ps = *s.store;
             s.cells->enqueue_settle(ps, column_key(need[d].lo), need[d].hi > need[d].lo ? column_key(need[d].hi) : 0, gathered);
@@ -465,11 +466,12 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 const auto& w = windows[k];
                 s.cells->enqueue_gather(ps, w.first, w.end, column_key(need[w.e].lo), column_key(need[w.e].hi), base, k,
                                         gathered);
-                blocks.push_back({d, w.e, k, base});
+                sent[d].push_back({d, w.e, k, base});
                 base += w.end - w.first;
             }
             s.device->flush();
-        }
+        });
+        for (const auto& v : sent) blocks.insert(blocks.end(), v.begin(), v.end());
         gathered.wait("gathering particles for the neighbouring devices", options_.wait_mode);
     }
     std::size_t removed = 0;
@@ -507,14 +509,13 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
     {
         PhaseTimer t(phases_, "exchange: write and sort");
         cl_rt::EventSet counted;
-        // Every device's writes first: a write from memory pinned in another device's context may
-        // hold the host until it is done (NVIDIA), and the next device should not wait for that
-        // and for this device's sort launches as well.
-        for (std::size_t e = 0; e < D; ++e) {
+        // Each device on its own host thread: a write from memory pinned in another device's
+        // context may hold the thread until it is done (NVIDIA), and the sort is ~25 launches.
+        for_each_device([&](std::size_t e) {
             Slab& s = slabs_[e];
             auto& ps = *s.store;
-            const std::size_t active = ps.ranges.active();
-            ps.reserve(active + incoming[e]);
+            const std::size_t active = ps.ranges.active(), n = incoming[e];
+            ps.reserve(active + n);
             std::size_t to = active;
             for (std::size_t k = 0; k < blocks.size(); ++k) {
                 const auto& b = blocks[k];
@@ -524,11 +525,6 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 to += m;
             }
             s.device->flush();
-        }
-        for (std::size_t e = 0; e < D; ++e) {
-            Slab& s = slabs_[e];
-            auto& ps = *s.store;
-            const std::size_t active = ps.ranges.active(), n = incoming[e];
             const std::uint32_t key_lo = column_key(need[e].lo), key_hi = need[e].hi > need[e].lo ? column_key(need[e].hi) : 0;
             s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
                                   false);
@@ -536,7 +532,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             ps.ranges = device::ParticleRanges{0, valid, 0};
             s.cells->enqueue_count_cells(ps, valid, counted);
             enqueue_column_positions(s, valid, counted);
-        }
+        });
         counted.wait("sorting particles after the exchange", options_.wait_mode);
         for (std::size_t e = 0; e < D; ++e) {
             Slab& s = slabs_[e];
@@ -548,28 +544,40 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
             } else {
                 ps.ranges = device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
             }
-            s.cells->finish_tables(ps, ps.ranges.active());
+            s.tables_due = true;  // finished by forces_and_kick, on the device's own thread
             remember_columns(s);
         }
     }
     return removed;
 }
 
-void SlabDriver::forces() {
-    for (std::size_t d = 0; d < slabs_.size(); ++d) {
+void SlabDriver::for_each_device(const std::function<void(std::size_t)>& work) {
+    if (slabs_.size() == 1 || options_.serialize) {
+        for (std::size_t d = 0; d < slabs_.size(); ++d) work(d);
+        return;
+    }
+    if (!threads_) threads_ = std::make_unique<DeviceThreads>(slabs_.size());
+    threads_->run(work);
+}
+
+StepOutcome SlabDriver::forces_and_kick(double dt) {
+    // Per device, on its own host thread: the rest of the cell tables, the force pass, the second
+    // kick and its reductions; then, while the force pass runs, the profiler folds in the step's
+    // finished launches (so reading this step's force time after the wait is quick).
+    cl_rt::EventSet done;
+    for_each_device([&](std::size_t d) {
         Slab& s = slabs_[d];
+        if (s.tables_due) s.cells->finish_tables(*s.store, s.store->ranges.active());
+        s.tables_due = false;
         const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
         for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
         if (options_.serialize) s.device->finish();
-    }
-}
-
-StepOutcome SlabDriver::kick(double dt) {
-    StepOutcome out;
-    cl_rt::EventSet done;
-    for (auto& s : slabs_)
         if (s.store->ranges.owned > 0) s.physics->enqueue_kick(*s.store, dt, done);  // idle devices rest
+        s.device->flush();
+        if (slabs_.size() > 1) s.device->profiler().collect_finished();
+    });
     done.wait("the second kick", options_.wait_mode);
+    StepOutcome out;
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
         if (slabs_[d].store->ranges.owned == 0) continue;
         const auto k = slabs_[d].physics->kick_result();
@@ -587,8 +595,7 @@ StepOutcome SlabDriver::kick(double dt) {
 
 StepOutcome SlabDriver::start() {
     const std::size_t removed = redistribute();
-    forces();
-    StepOutcome out = kick(0.0);
+    StepOutcome out = forces_and_kick(0.0);
     out.removed = removed;
     for (auto& s : slabs_) {  // the first step's force time counts from here
         s.force_total_seen = profiled_seconds(*s.device, "sph.forces");
@@ -611,13 +618,15 @@ StepOutcome SlabDriver::step(double dt) {
             slabs_[d].end_col = c[d + 1];
         }
     }
-    for (auto& s : slabs_) s.physics->kick_drift(*s.store, dt);
+    for_each_device([&](std::size_t d) {  // the balancer runs while the devices drift
+        slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
+        slabs_[d].device->flush();
+    });
     const std::size_t removed = redistribute();
     StepOutcome out;
     {
         PhaseTimer t(phases_, "forces and kick");
-        forces();
-        out = kick(dt);
+        out = forces_and_kick(dt);
     }
     out.removed = removed;
     ++steps_;

@@ -19,6 +19,7 @@
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
+#include "multi/device_threads.hpp"
 
 #include <fstream>
 #include <map>
@@ -53,6 +54,7 @@ struct Slab {
     std::unique_ptr<device::Physics> physics;
     std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
     double force_seconds = 0;                // last step's force pass time (the balancer's input)
+    bool tables_due = false;                 // the exchange left finish_tables to forces_and_kick
     double force_total_seen = 0;             // the profiler's force total when force_seconds was taken
     std::size_t received_bytes = 0;         // copied in from other devices since the start
     // Where each owned column [columns_first, columns_end] began in the sorted array after the last
@@ -107,8 +109,8 @@ private:
                     std::size_t receiver, cl_rt::EventSet& done);
     void write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done);
-    void forces();
-    StepOutcome kick(double dt);
+    StepOutcome forces_and_kick(double dt);
+    void for_each_device(const std::function<void(std::size_t)>& work);  // one host thread per device
     void rebalance(std::uint64_t step);
     void calibrate(const Particles& p, const std::vector<std::uint32_t>& key, const balance::ColumnProfile& profile);
     balance::ColumnProfile column_profile();
@@ -129,6 +131,7 @@ private:
     static constexpr std::size_t kStagedBytesPerParticle = 52;
     std::vector<std::unique_ptr<cl_rt::PinnedHost>> staging_;
     std::map<std::string, double> phases_;
+    std::unique_ptr<DeviceThreads> threads_;        // several devices: started at the first use
     std::vector<std::size_t> boundary_per_column_;  // boundary particles never move: counted once
 };
 
