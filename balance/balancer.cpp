@@ -86,6 +86,19 @@ void Balancer::calibrate(std::size_t device, double fixed_seconds, double second
   calibrated_.at(device) = true;
 }
 
+double Balancer::gain_threshold() const {
+  // The full threshold until every device holding columns knows how well its model predicts.
+  double worst = 0.0;
+  for (std::size_t d = 0; d < models_.size(); ++d) {
+    if (cuts_[d + 1] <= cuts_[d]) continue;  // idle: not measured, its error is not known
+    const auto error = models_[d].prediction_error();
+    if (!error) return options_.gain_threshold;
+    worst = std::max(worst, *error);
+  }
+  const double lo = std::min(options_.min_gain_threshold, options_.gain_threshold);
+  return std::clamp(options_.threshold_standard_errors * worst, lo, options_.gain_threshold);
+}
+
 std::vector<SlabCost> Balancer::slab_costs() const {
   double fixed_sum = 0.0, per_unit_sum = 0.0;
   std::size_t known = 0;
@@ -161,7 +174,8 @@ Decision Balancer::step(const std::vector<DeviceSample>& samples, const ColumnPr
   decision.predicted_gain = std::max(time_gain, balance_gain);
 
   const bool safe = respects_guard_rails(costs, columns, options_.min_columns, cuts_);
-  if (safe && decision.predicted_gain < options_.gain_threshold)
+  decision.gain_threshold = gain_threshold();
+  if (safe && decision.predicted_gain < decision.gain_threshold)
     return finish(Reason::below_threshold);
 
   // Step toward the best plan within the movement bound: the best cuts reachable this step,

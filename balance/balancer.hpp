@@ -39,6 +39,7 @@ struct Decision {
   std::vector<double> predicted_seconds;  // per device under these cuts (0 for an idle device)
   double predicted_max = 0.0;             // the predicted step time
   double predicted_gain = 0.0;            // relative gain of the best plan over the old cuts
+  double gain_threshold = 0.0;            // what the gain had to beat (Options::gain_threshold)
   bool moved = false;
   Reason reason = Reason::no_model_yet;
 };
@@ -69,6 +70,7 @@ class Balancer {
   // Each device's predicted cost; a device that never reported a time borrows the mean model of
   // those that did (an optimistic guess, corrected after its first step).
   std::vector<SlabCost> slab_costs() const;
+  double gain_threshold() const;  // options_.gain_threshold, or lower where the models are precise
   void idle_empty_slabs(std::vector<std::size_t>& cuts, const ColumnProfile& profile) const;
   std::vector<CutWindow> movement_windows() const;
   void check_profile(const ColumnProfile& profile) const;

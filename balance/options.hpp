@@ -36,6 +36,8 @@ struct ModelOptions {
   double change_threshold = 0.25;
   // Work is never free: at least this share of the time at the window's mean work scales with it.
   double min_per_unit_share = 0.05;
+  // Samples before the model reports its prediction error (TimeModel::prediction_error).
+  std::size_t noise_min_samples = 8;
 };
 
 struct Options {
@@ -54,6 +56,12 @@ struct Options {
   // the predicted imbalance, by at least this fraction: a move costs a migration, and jitter must
   // not make cuts wander. 1.5 % is about four standard errors of a prediction at the defaults.
   double gain_threshold = 0.015;
+  // Once every busy device's model knows its prediction error (TimeModel::prediction_error), the
+  // threshold becomes threshold_standard_errors times the largest, kept within
+  // [min_gain_threshold, gain_threshold]: devices whose times jitter by 0.1 % (two H200s) can be
+  // balanced to a fraction of a percent, while noisy ones keep the full threshold.
+  double threshold_standard_errors = 4.0;
+  double min_gain_threshold = 0.003;
   // At most this many columns per cut per step, so a migration stays a small copy; 0 = unbounded.
   // Broken guard rails (a device over its capacity) are repaired even when that needs more.
   std::size_t max_move_columns = 16;

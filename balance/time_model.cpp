@@ -130,6 +130,20 @@ void TimeModel::refit() {
   // every step would let jitter, fitted again and again through overlapping windows, walk the
   // split anywhere while the work stands still.
   if (identifiable) anchor_ = Anchor{fixed_, per_unit_};
+
+  // How well the refitted model explains the window: relative residuals, weighted as in the fit,
+  // their RMS scaled by 1/sqrt(effective samples) (exponential weights: (sum w)^2 / sum w^2).
+  // Two parameters were fitted, so the residuals understate the noise by about n / (n - 2).
+  double squares = 0.0, weight2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = window_[i].seconds / predict(window_[i].work) - 1.0;
+    squares += weight[i] * r * r;
+    weight2 += weight[i] * weight[i];
+  }
+  const double effective = total * total / weight2;
+  prediction_error_.reset();
+  if (n >= options_.noise_min_samples && effective > 2.0)
+    prediction_error_ = std::sqrt(squares / total * effective / (effective - 2.0)) / std::sqrt(effective);
 }
 
 double TimeModel::anchor_share(double work) const {

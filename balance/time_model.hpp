@@ -34,6 +34,10 @@ class TimeModel {
   double per_unit() const { return per_unit_; }
 
   std::size_t samples() const { return window_.size(); }
+  // Relative standard error of a prediction near the window's work: the weighted RMS of the
+  // window's relative residuals over the square root of its effective sample count. Unknown (an
+  // empty optional) below ModelOptions::noise_min_samples samples.
+  std::optional<double> prediction_error() const { return prediction_error_; }
   // How many times the model saw the device change speed and restarted its window.
   std::size_t speed_changes() const { return speed_changes_; }
 
@@ -62,6 +66,7 @@ class TimeModel {
   double fixed_ = 0.0;
   double per_unit_ = 0.0;
   bool ready_ = false;
+  std::optional<double> prediction_error_;
   std::size_t speed_changes_ = 0;
 };
 

@@ -126,3 +126,26 @@ TEST_CASE("time model: a miss far outside the seen work refits the slope, not th
   CHECK(relative_error(model.predict(4e4), fixed + per_unit * 4e4) < 0.02);
   CHECK(relative_error(model.fixed(), fixed) < 0.10);
 }
+
+TEST_CASE("time model: the prediction error follows the jitter") {
+  const std::uint64_t seed = test_seed();
+  MESSAGE("seed " << seed << " (replay with CLSPH_BALANCE_SEED)");
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> around(-1.0, 1.0);
+  // Uniform jitter of +-a has a standard deviation of a / sqrt(3); the default window (64 steps,
+  // forgetting 0.98) holds about 56 effective samples.
+  for (double jitter : {0.001, 0.05}) {
+    TimeModel model;
+    for (int step = 0; step < 200; ++step) {
+      CHECK((step < 8) == !model.prediction_error().has_value());
+      // Constant work: the residuals are the jitter alone (with varying work a fixed/per-unit split
+      // that the window cannot identify adds its own share, which is a real prediction error too).
+      model.observe(2e5, 8e-3 * (1.0 + jitter * around(random)));
+    }
+    REQUIRE(model.prediction_error());
+    const double expected = jitter / std::sqrt(3.0) / std::sqrt(56.0);
+    INFO("jitter " << jitter << ": prediction error " << *model.prediction_error() << ", expected about " << expected);
+    CHECK(*model.prediction_error() > 0.6 * expected);
+    CHECK(*model.prediction_error() < 1.6 * expected);
+  }
+}
