@@ -128,17 +128,36 @@ __kernel void gather_key_range(const uint first, const uint end, const uint key_
 }
 
 // dst[i] = src[order[i]]: one particle array into sorted order (through the rotating scratch).
-__kernel void gather_float4(const uint n, __global const uint* order, __global const float4* src,
-                            __global float4* dst) {
+__kernel void gather_float4(const uint n, const uint dst_offset, __global const uint* order,
+                            __global const float4* src, __global float4* dst) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    dst[i] = src[order[i]];
+    dst[dst_offset + i] = src[order[i]];
 }
 
-__kernel void gather_uint(const uint n, __global const uint* order, __global const uint* src, __global uint* dst) {
+__kernel void gather_uint(const uint n, const uint dst_offset, __global const uint* order, __global const uint* src,
+                          __global uint* dst) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    dst[i] = src[order[i]];
+    dst[dst_offset + i] = src[order[i]];
+}
+
+// The two edges of an almost sorted array, for a small sort of their own (several devices: what
+// arrived from the neighbours was placed before and after the sorted particles this device kept).
+// Entry j of [0, left + end - right) stands for particle i = j below `left`, else right + j - left:
+// keys[j] = its key from pos.w, vals[j] = i. Particles [drop_first, drop_end) are the ones the sort
+// before dropped (stale ghosts keep an old key in pos.w), and keys outside [key_lo, key_hi) are no
+// longer needed here: both get invalid_key.
+__kernel void edge_keys(const uint left, const uint right, const uint end, const uint drop_first, const uint drop_end,
+                        const uint key_lo, const uint key_hi, const uint invalid_key, __global const float4* pos,
+                        __global uint* keys, __global uint* vals) {
+    const uint j = get_global_id(0);
+    if (j >= left + (end - right)) return;
+    const uint i = j < left ? j : right + (j - left);
+    const uint key = pos_key(pos[i]);
+    const bool dropped = i >= drop_first && i < drop_end;
+    keys[j] = !dropped && key >= key_lo && key < key_hi ? key : invalid_key;
+    vals[j] = i;
 }
 
 inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }

@@ -92,8 +92,9 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.cut_schedule = options.cut_schedule;
     dopt.fail_at_step = options.fail_at_step;
     dopt.fail_device = options.fail_device;
-    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=window|sort (one sort
-    // per step, or sort / exchange / sort again), CLSPH_STAGING=sender|receiver,
+    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=overlap|window|sort
+    // (the kept particles sort while arrivals travel, then the edges; one sort after the arrivals;
+    // or sort / exchange / sort again), CLSPH_STAGING=sender|receiver,
     // CLSPH_WAIT=callbacks|poll|block (callbacks: sleep on event callbacks where the driver delivers
     // them on time, polling elsewhere).
     if (const char* v = std::getenv("CLSPH_STAGING")) {
@@ -103,8 +104,8 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     }
     if (const char* v = std::getenv("CLSPH_EXCHANGE")) {
         dopt.exchange = v;
-        if (dopt.exchange != "window" && dopt.exchange != "sort")
-            throw Error(std::string("CLSPH_EXCHANGE: unknown value '") + v + "' (use window or sort)");
+        if (dopt.exchange != "overlap" && dopt.exchange != "window" && dopt.exchange != "sort")
+            throw Error(std::string("CLSPH_EXCHANGE: unknown value '") + v + "' (use overlap, window or sort)");
     }
     if (const char* v = std::getenv("CLSPH_WAIT")) {
         const std::string w = v;

@@ -43,6 +43,14 @@ void EventSet::add(Device& device, cl::Event event) {
     devices_.push_back(&device);
 }
 
+std::vector<cl::Event> EventSet::events_of(const Device& device) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<cl::Event> out;
+    for (std::size_t i = 0; i < events_.size(); ++i)
+        if (devices_[i] == &device) out.push_back(events_[i]);
+    return out;
+}
+
 void EventSet::wait(const std::string& what, Mode mode) {
     if (events_.empty()) return;
     // Whatever happens below, the set is empty afterwards.
@@ -58,6 +66,7 @@ void EventSet::wait(const std::string& what, Mode mode) {
     for (Device* d : devices) {
         if (std::find(flushed.begin(), flushed.end(), d) != flushed.end()) continue;
         check(d->queue().flush(), what + " (flushing the queue)", d->label());
+        check(d->transfer_queue().flush(), what + " (flushing the transfer queue)", d->label());
         flushed.push_back(d);
         if (mode == Mode::callbacks && d->quirks().late_transfer_callbacks) mode = Mode::poll;
     }

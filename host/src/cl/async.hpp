@@ -21,6 +21,7 @@ class EventSet {
 public:
     void add(Device& device, cl::Event event);
     bool empty() const { return events_.empty(); }
+    std::vector<cl::Event> events_of(const Device& device) const;
     // How to wait: sleep on the events' completion callbacks; poll their status, sleeping 20 us
     // between looks; or clWaitForEvents (which spins a core on NVIDIA).
     enum class Mode { callbacks, poll, block };
@@ -30,7 +31,7 @@ public:
     void wait(const std::string& what, Mode mode = Mode::callbacks);
 
 private:
-    std::mutex mutex_;  // add() may be called from one host thread per device
+    mutable std::mutex mutex_;  // add() may be called from one host thread per device
     std::vector<cl::Event> events_;
     std::vector<Device*> devices_;  // of each event, for the flush and the error message
 };

@@ -24,6 +24,8 @@ Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const Op
     const cl_command_queue_properties props = quirks_.fake_event_timestamps ? 0 : CL_QUEUE_PROFILING_ENABLE;
     queue_ = cl::CommandQueue(context_, device_, props, &err);
     check(err, "creating command queue", label_);
+    transfer_queue_ = cl::CommandQueue(context_, device_, props, &err);
+    check(err, "creating the transfer queue", label_);
     profiler_.enable(options.profiling);
 }
 
@@ -55,7 +57,10 @@ void Device::launch(const std::string& name, cl::Kernel& kernel, std::size_t glo
 
 void Device::flush() { check(queue_.flush(), "submitting the queue", label_); }
 
-void Device::finish() { check(queue_.finish(), "waiting for the queue", label_); }
+void Device::finish() {
+    check(transfer_queue_.finish(), "waiting for the transfer queue", label_);
+    check(queue_.finish(), "waiting for the queue", label_);
+}
 
 void Device::write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset) {
     check(queue_.enqueueWriteBuffer(dst.get(), CL_TRUE, offset, bytes, src), "writing a buffer", label_);
@@ -65,20 +70,27 @@ void Device::read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::si
     check(queue_.enqueueReadBuffer(src.get(), CL_TRUE, offset, bytes, dst), "reading a buffer", label_);
 }
 
-void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done) {
+void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done, On on) {
     if (!bytes) return;
     cl::Event ev;
-    check(queue_.enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev), "reading a buffer", label_);
+    check((on == On::transfer ? transfer_queue_ : queue_).enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev), "reading a buffer", label_);
     if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.read", ev);
     done.add(*this, std::move(ev));
 }
 
-void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done) {
+void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done, On on) {
     if (!bytes) return;
     cl::Event ev;
-    check(queue_.enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev), "writing a buffer", label_);
+    check((on == On::transfer ? transfer_queue_ : queue_).enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev), "writing a buffer", label_);
     if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.write", ev);
     done.add(*this, std::move(ev));
+}
+
+void Device::barrier(const EventSet& after) {
+    std::vector<cl::Event> mine = after.events_of(*this);
+    if (mine.empty()) return;
+    check(transfer_queue_.flush(), "submitting the transfer queue", label_);
+    check(queue_.enqueueBarrierWithWaitList(&mine), "ordering the compute queue after transfers", label_);
 }
 
 void Device::fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes,

@@ -1,4 +1,5 @@
-// One OpenCL device as the engine drives it: its context, one in-order compute queue, its program
+// One OpenCL device as the engine drives it: its context, an in-order compute queue and an in-order
+// transfer queue (copies between devices run there while the compute queue works), its program
 // cache, its memory accounting, its launch profiler and its quirks. Several Devices (of any vendors)
 // live side by side in one process; nothing here is global.
 #pragma once
@@ -32,6 +33,7 @@ public:
     const Quirks& quirks() const { return quirks_; }
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
+    cl::CommandQueue& transfer_queue() { return transfer_queue_; }
     const cl::Device& cl_device() const { return device_; }
     MemoryTracker& memory() { return memory_; }
     ProgramCache& programs() { return programs_; }
@@ -71,8 +73,16 @@ public:
 
     // Non-blocking transfers (bytes): the event goes into `done`, whose wait() is when the host
     // memory may be used (read) or reused (write).
-    void read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done);
-    void write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done);
+    // On the transfer queue they run beside the compute queue's work: nothing orders them against
+    // it, so they must not touch what it touches until an event says so (barrier()).
+    enum class On { compute, transfer };
+    void read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done,
+                    On on = On::compute);
+    void write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done,
+                     On on = On::compute);
+    // The compute queue's next commands wait for this device's events in `after` (e.g. writes on
+    // the transfer queue).
+    void barrier(const EventSet& after);
 
 private:
     void write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset);
@@ -84,7 +94,7 @@ private:
     Quirks quirks_;
     cl::Device device_;
     cl::Context context_;
-    cl::CommandQueue queue_;
+    cl::CommandQueue queue_, transfer_queue_;
     MemoryTracker memory_;
     ProgramCache programs_;
     Profiler profiler_;

@@ -7,7 +7,12 @@
 namespace clsph::device {
 
 CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
-    : device_(device), grid_(grid), sort_(device), scan_(device), wg_(device.work_group_size(128)) {
+    : device_(device),
+      grid_(grid),
+      sort_(device),
+      edge_sort_(device, RadixSort::Config{0, 0, 8, "edge_sort"}),
+      scan_(device),
+      wg_(device.work_group_size(128)) {
     const std::string opts = grid.kernel_options();
     keys_k_ = device.kernel("cells.cl", "cell_keys", opts);
     gather4_k_ = device.kernel("cells.cl", "gather_float4", opts);
@@ -21,6 +26,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     settle_k_ = device.kernel("cells.cl", "settle_owned", opts);
     flag_range_k_ = device.kernel("cells.cl", "flag_key_range", opts);
     gather_range_k_ = device.kernel("cells.cl", "gather_key_range", opts);
+    edge_keys_k_ = device.kernel("cells.cl", "edge_keys", opts);
     reserve_cells(1024);
 }
 
@@ -60,7 +66,8 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
 }
 
 void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_t keep_first, std::size_t keep_end,
-                                std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle) {
+                                std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle,
+                                std::size_t dst_offset) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
     const GridParams g = grid_.params();
@@ -82,22 +89,114 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
     sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
 
     // Reorder through the one scratch buffer: gather A into scratch, then swap A and scratch.
+    const cl_uint at = static_cast<cl_uint>(dst_offset);
     for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {
         gather4_k_.setArg(0, n);
-        gather4_k_.setArg(1, ps.vals.get());
-        gather4_k_.setArg(2, a->get());
-        gather4_k_.setArg(3, ps.scratch.get());
+        gather4_k_.setArg(1, at);
+        gather4_k_.setArg(2, ps.vals.get());
+        gather4_k_.setArg(3, a->get());
+        gather4_k_.setArg(4, ps.scratch.get());
         d.launch("reorder.float4", gather4_k_, n, wg_);
         a->swap(ps.scratch);
     }
     // ids go through the same scratch (larger than they need) and are copied back: the two buffers
     // differ in size, so they cannot trade places.
     gather1_k_.setArg(0, n);
-    gather1_k_.setArg(1, ps.vals.get());
-    gather1_k_.setArg(2, ps.id.get());
-    gather1_k_.setArg(3, ps.scratch.get());
+    gather1_k_.setArg(1, at);
+    gather1_k_.setArg(2, ps.vals.get());
+    gather1_k_.setArg(3, ps.id.get());
+    gather1_k_.setArg(4, ps.scratch.get());
     d.launch("reorder.uint", gather1_k_, n, wg_);
-    d.copy(ps.scratch, ps.id, n * sizeof(cl_uint));
+    d.copy(ps.scratch, ps.id, n * sizeof(cl_uint), dst_offset * sizeof(cl_uint), dst_offset * sizeof(cl_uint));
+}
+
+void CellPipeline::begin_inbox(std::size_t particles) {
+    if (particles <= inbox_capacity_ && inbox_pos) return;
+    auto& d = device_;
+    const std::size_t cap = particles + particles / 4 + 1024;
+    const std::size_t f4 = 4 * sizeof(cl_float);
+    for (cl_rt::Buffer* b : {&inbox_pos, &inbox_velrho, &inbox_accel, &inbox_id}) *b = cl_rt::Buffer();
+    inbox_pos = d.alloc(cap * f4, "exchange inbox: positions");
+    inbox_velrho = d.alloc(cap * f4, "exchange inbox: velocity+density");
+    inbox_accel = d.alloc(cap * f4, "exchange inbox: acceleration");
+    inbox_id = d.alloc(cap * sizeof(cl_uint), "exchange inbox: ids");
+    inbox_capacity_ = cap;
+}
+
+void CellPipeline::enqueue_unpack_inbox(ParticleStore& ps, std::size_t from, std::size_t count, std::size_t to) {
+    if (count == 0) return;
+    const std::size_t f4 = 4 * sizeof(cl_float), u = sizeof(cl_uint);
+    device_.copy(inbox_pos, ps.pos, count * f4, from * f4, to * f4);
+    device_.copy(inbox_velrho, ps.velrho, count * f4, from * f4, to * f4);
+    device_.copy(inbox_accel, ps.accel, count * f4, from * f4, to * f4);
+    device_.copy(inbox_id, ps.id, count * u, from * u, to * u);
+}
+
+void CellPipeline::enqueue_edge_sort(ParticleStore& ps, std::size_t left, std::size_t right, std::size_t end,
+                                     std::size_t drop_first, std::size_t drop_end, std::uint32_t key_lo,
+                                     std::uint32_t key_hi, std::size_t valid_right) {
+    auto& d = device_;
+    const std::size_t m = left + (end - right);
+    if (m == 0) return;
+    if (edge_keys_.bytes() < m * sizeof(cl_uint)) {
+        const std::size_t cap = m + m / 4 + 1024;
+        edge_keys_ = cl_rt::Buffer();
+        edge_vals_ = cl_rt::Buffer();
+        edge_keys_ = d.alloc(cap * sizeof(cl_uint), "edge sort keys");
+        edge_vals_ = d.alloc(cap * sizeof(cl_uint), "edge sort values");
+    }
+    edge_keys_k_.setArg(0, static_cast<cl_uint>(left));
+    edge_keys_k_.setArg(1, static_cast<cl_uint>(right));
+    edge_keys_k_.setArg(2, static_cast<cl_uint>(end));
+    edge_keys_k_.setArg(3, static_cast<cl_uint>(drop_first));
+    edge_keys_k_.setArg(4, static_cast<cl_uint>(drop_end));
+    edge_keys_k_.setArg(5, static_cast<cl_uint>(key_lo));
+    edge_keys_k_.setArg(6, static_cast<cl_uint>(key_hi));
+    edge_keys_k_.setArg(7, grid_.params().invalid_key);
+    edge_keys_k_.setArg(8, ps.pos.get());
+    edge_keys_k_.setArg(9, edge_keys_.get());
+    edge_keys_k_.setArg(10, edge_vals_.get());
+    d.launch("edge.keys", edge_keys_k_, m, wg_);
+    edge_sort_.sort(edge_keys_, edge_vals_, m, grid_.key_bits());
+    // Each array: the edges in sorted order into scratch, then the left part back to [0, left) and
+    // the right part's kept entries to [right, right + valid_right).
+    const std::size_t f4 = 4 * sizeof(cl_float), u = sizeof(cl_uint);
+    const cl_uint mm = static_cast<cl_uint>(m), zero = 0;
+    for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {
+        gather4_k_.setArg(0, mm);
+        gather4_k_.setArg(1, zero);
+        gather4_k_.setArg(2, edge_vals_.get());
+        gather4_k_.setArg(3, a->get());
+        gather4_k_.setArg(4, ps.scratch.get());
+        d.launch("edge.reorder.float4", gather4_k_, m, wg_);
+        d.copy(ps.scratch, *a, left * f4, 0, 0);
+        d.copy(ps.scratch, *a, valid_right * f4, left * f4, right * f4);
+    }
+    gather1_k_.setArg(0, mm);
+    gather1_k_.setArg(1, zero);
+    gather1_k_.setArg(2, edge_vals_.get());
+    gather1_k_.setArg(3, ps.id.get());
+    gather1_k_.setArg(4, ps.scratch.get());
+    d.launch("edge.reorder.uint", gather1_k_, m, wg_);
+    d.copy(ps.scratch, ps.id, left * u, 0, 0);
+    d.copy(ps.scratch, ps.id, valid_right * u, left * u, right * u);
+}
+
+void CellPipeline::enqueue_rekey(ParticleStore& ps, std::size_t n_all) {
+    const cl_uint n = static_cast<cl_uint>(n_all);
+    if (n == 0) return;
+    keys_k_.setArg(0, n);
+    keys_k_.setArg(1, cl_uint{0});
+    keys_k_.setArg(2, n);
+    keys_k_.setArg(3, n);
+    keys_k_.setArg(4, cl_uint{0});
+    keys_k_.setArg(5, grid_.params().invalid_key);
+    keys_k_.setArg(6, cl_uint{0});
+    keys_k_.setArg(7, grid_.params());
+    keys_k_.setArg(8, ps.pos.get());
+    keys_k_.setArg(9, ps.keys.get());
+    keys_k_.setArg(10, ps.vals.get());
+    device_.launch("cells.rekey", keys_k_, n, wg_);
 }
 
 std::vector<std::size_t> CellPipeline::locate(ParticleStore& ps, std::size_t n_all,

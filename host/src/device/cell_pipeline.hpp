@@ -41,8 +41,25 @@ public:
     void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end);
     // As above, and particles from tail_first on are always kept, while those of [keep_first,
     // keep_end) are kept only if their key lies in [key_lo, key_hi) (the columns a device needs).
+    // The sorted particles land at [dst_offset, dst_offset + n) (what is below is left alone: room
+    // for particles that arrive from a neighbour while this sort runs).
     void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end,
-                      std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle);
+                      std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle,
+                      std::size_t dst_offset = 0);
+
+    // The exchange overlapped with the sort (host/src/multi/): arrivals are written into the inbox
+    // (on the transfer queue, while the kept particles sort), then copied to their places around
+    // the sorted ones; the edges [0, left) and [right, end) are then sorted on their own (entries
+    // in [drop_first, drop_end), which the sort before dropped, and keys outside [key_lo, key_hi)
+    // are dropped; valid_right must be how many of the right edge stay), which leaves
+    // [0, right + valid_right) sorted; then the keys are rebuilt from pos.w for the tables.
+    void begin_inbox(std::size_t particles);
+    cl_rt::Buffer inbox_pos, inbox_velrho, inbox_accel, inbox_id;
+    void enqueue_unpack_inbox(ParticleStore& store, std::size_t from, std::size_t count, std::size_t to);
+    void enqueue_edge_sort(ParticleStore& store, std::size_t left, std::size_t right, std::size_t end,
+                           std::size_t drop_first, std::size_t drop_end, std::uint32_t key_lo, std::uint32_t key_hi,
+                           std::size_t valid_right);
+    void enqueue_rekey(ParticleStore& store, std::size_t n);
 
     // The exchange with one sort per step (host/src/multi/): settle the drifted owned particles into
     // cells (keys in pos.w, nothing moved), reading back how many left the domain, how many moved
@@ -82,14 +99,16 @@ private:
     void reserve_cells(std::size_t k);
     cl_rt::Device& device_;
     const Grid& grid_;
-    RadixSort sort_;
+    RadixSort sort_, edge_sort_;
     Scan scan_;
     std::size_t wg_;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_;
     cl_rt::Buffer counters_, flags_;
     // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).
     cl_rt::PinnedArray<std::uint32_t> counters_host_, gather_counts_;
-    std::size_t outbox_capacity_ = 0;
+    std::size_t outbox_capacity_ = 0, inbox_capacity_ = 0;
+    cl::Kernel edge_keys_k_;
+    cl_rt::Buffer edge_keys_, edge_vals_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;

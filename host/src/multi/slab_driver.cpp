@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <mutex>
 #include <optional>
 
 namespace clsph::multi {
@@ -338,7 +339,7 @@ std::size_t SlabDriver::redistribute_sorted() {
         PhaseTimer t(phases_, "exchange: read to pinned host");
         cl_rt::EventSet read;
         for (const auto& g : segments) {
-            const auto& ps = *slabs_[g.d].store;
+            auto& ps = *slabs_[g.d].store;
             read_block(g.d, {ps.pos, ps.velrho, ps.accel, ps.id}, g.lo, g.hi - g.lo, g.base, g.e, read);
         }
         read.wait("reading particles for the neighbouring devices", options_.wait_mode);
@@ -359,7 +360,7 @@ std::size_t SlabDriver::redistribute_sorted() {
             for (const auto& g : segments) {
                 if (g.e != e) continue;
                 const std::size_t m = g.hi - g.lo;
-                write_block(s, g.base, m, to, counted);
+                write_block(*s.device, {ps.pos, ps.velrho, ps.accel, ps.id}, g.base, m, to, counted);
                 to += m;
             }
             s.cells->enqueue_sort(ps, k1 + n, k0, k1 + n);
@@ -377,29 +378,30 @@ std::size_t SlabDriver::redistribute_sorted() {
     return removed;
 }
 
-void SlabDriver::read_block(std::size_t sender, const BlockSource& src, std::size_t from, std::size_t m,
-                            unsigned char* base, std::size_t receiver, cl_rt::EventSet& done) {
+void SlabDriver::read_block(std::size_t sender, const BlockBuffers& src, std::size_t from, std::size_t m,
+                            unsigned char* base, std::size_t receiver, cl_rt::EventSet& done, cl_rt::Device::On on) {
     // Particles [from, from + m) of the sender's four arrays into a staged block
     // [pos | velrho | accel | id] (acceleration too: arrivals need it for their second kick).
     const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
     auto& dev = *slabs_[sender].device;
-    dev.read_async(src.pos, base, m * f4, from * f4, done);
-    dev.read_async(src.velrho, base + m * f4, m * f4, from * f4, done);
-    dev.read_async(src.accel, base + 2 * m * f4, m * f4, from * f4, done);
-    dev.read_async(src.id, base + 3 * m * f4, m * u, from * u, done);
+    dev.read_async(src.pos, base, m * f4, from * f4, done, on);
+    dev.read_async(src.velrho, base + m * f4, m * f4, from * f4, done, on);
+    dev.read_async(src.accel, base + 2 * m * f4, m * f4, from * f4, done, on);
+    dev.read_async(src.id, base + 3 * m * f4, m * u, from * u, done, on);
+    std::lock_guard<std::mutex> lock(counts_mutex_);  // one host thread per device may be here
     moved_ += m;
     moved_bytes_ += m * kStagedBytesPerParticle;
     slabs_[receiver].received_bytes += m * kStagedBytesPerParticle;
 }
 
-void SlabDriver::write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done) {
+void SlabDriver::write_block(cl_rt::Device& device, const BlockBuffers& dst, const unsigned char* base, std::size_t m,
+                             std::size_t to, cl_rt::EventSet& done, cl_rt::Device::On on) {
     // A staged block [pos | velrho | accel | id] of m particles, written at particle `to`.
     const std::size_t f4 = 4 * sizeof(float), u = sizeof(std::uint32_t);
-    auto& ps = *s.store;
-    s.device->write_async(ps.pos, base, m * f4, to * f4, done);
-    s.device->write_async(ps.velrho, base + m * f4, m * f4, to * f4, done);
-    s.device->write_async(ps.accel, base + 2 * m * f4, m * f4, to * f4, done);
-    s.device->write_async(ps.id, base + 3 * m * f4, m * u, to * u, done);
+    device.write_async(dst.pos, base, m * f4, to * f4, done, on);
+    device.write_async(dst.velrho, base + m * f4, m * f4, to * f4, done, on);
+    device.write_async(dst.accel, base + 2 * m * f4, m * f4, to * f4, done, on);
+    device.write_async(dst.id, base + 3 * m * f4, m * u, to * u, done, on);
 }
 
 void SlabDriver::enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) {
@@ -482,53 +484,119 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
         }
         removed += s.cells->settled()[0];
     }
-    // Read every block into its sender's pinned memory: [pos | velrho | accel | id].
-    std::vector<std::size_t> staged(D, 0), incoming(D, 0);
-    std::vector<unsigned char*> at(blocks.size());
+    // Per receiver: particles from devices to its left and to its right (senders to the left hold
+    // lower columns, so what they send lands below everything this device keeps, and the other way
+    // round for the right: see the edge plan below).
+    std::vector<std::size_t> staged(D, 0), from_left(D, 0), from_right(D, 0);
     for (const auto& b : blocks) {
-        staged[b.d] += slabs_[b.d].cells->gather_count(b.index);
-        incoming[b.e] += slabs_[b.d].cells->gather_count(b.index);
+        const std::size_t m = slabs_[b.d].cells->gather_count(b.index);
+        staged[b.d] += m;
+        (b.d < b.e ? from_left : from_right)[b.e] += m;
+    }
+    // The overlap: each device sorts the particles it keeps while the arrivals travel, leaving
+    // room for them below (the left ones) and above (the right ones); afterwards only the edges,
+    // where arrivals and kept particles meet, need sorting. Kept particles that now lie below
+    // column first_old + 1 were, before the drift, below first_old + 2 (CFL: at most one column
+    // per step, checked by the settle), so the last step's column positions bound the left edge;
+    // likewise the right. A device that held nothing or a slab too narrow for the bounds to leave
+    // a middle sorts everything once the arrivals are in (the plan's `edges` is false).
+    struct EdgePlan { bool edges = false; std::size_t kept_all = 0, kept = 0, left = 0, right = 0, end = 0; };
+    std::vector<EdgePlan> plan(D);
+    for (std::size_t e = 0; e < D; ++e) {
+        const Slab& s = slabs_[e];
+        const auto& ps = *s.store;
+        EdgePlan& p = plan[e];
+        p.kept_all = ps.ranges.active();     // sorted as a whole; ghosts and leavers drop to its end
+        p.kept = s.cells->settled()[2];      // of which stay (their keys lie in this device's need)
+        const std::size_t last = s.columns_end - s.columns_first;
+        if (s.empty() || s.column_at.size() != last + 1 || last < 4 || p.kept == 0) continue;
+        const std::size_t x = std::min<std::size_t>(p.kept, s.column_at[2] - s.column_at[0]);
+        const std::size_t y = std::min<std::size_t>(p.kept, s.column_at[last] - s.column_at[last - 2]);
+        p.left = from_left[e] + x;
+        p.right = from_left[e] + p.kept - y;
+        p.end = from_left[e] + p.kept_all + from_right[e];
+        p.edges = p.left < p.right && options_.exchange == "overlap";
     }
     while (staging_.size() < D) staging_.push_back(std::make_unique<cl_rt::PinnedHost>());
+    for (std::size_t d = 0; d < D; ++d) staging_[d]->reserve(*slabs_[d].device, staged[d] * kStagedBytesPerParticle);
+    std::vector<unsigned char*> at(blocks.size());
     {
-        PhaseTimer t(phases_, "exchange: read to pinned host");
-        for (std::size_t d = 0; d < D; ++d) staging_[d]->reserve(*slabs_[d].device, staged[d] * kStagedBytesPerParticle);
         std::vector<std::size_t> used(D, 0);
-        cl_rt::EventSet read;
         for (std::size_t k = 0; k < blocks.size(); ++k) {
             const auto& b = blocks[k];
-            auto& cells = *slabs_[b.d].cells;
-            const std::size_t m = cells.gather_count(b.index);
             at[k] = staging_[b.d]->data() + used[b.d];
-            used[b.d] += m * kStagedBytesPerParticle;
-            read_block(b.d, {cells.outbox_pos, cells.outbox_velrho, cells.outbox_accel, cells.outbox_id}, b.base, m, at[k],
-                       b.e, read);
+            used[b.d] += slabs_[b.d].cells->gather_count(b.index) * kStagedBytesPerParticle;
         }
+    }
+    {
+        PhaseTimer t(phases_, "exchange: reads beside the kept sort");
+        cl_rt::EventSet read;
+        for_each_device([&](std::size_t d) {
+            Slab& s = slabs_[d];
+            auto& ps = *s.store;
+            // Outboxes to pinned memory on the transfer queue (the gathers finished before the wait
+            // above), while the compute queue sorts what this device keeps.
+            for (std::size_t k = 0; k < blocks.size(); ++k) {
+                const auto& b = blocks[k];
+                if (b.d != d) continue;
+                auto& c = *s.cells;
+                read_block(d, {c.outbox_pos, c.outbox_velrho, c.outbox_accel, c.outbox_id}, b.base, c.gather_count(b.index),
+                           at[k], b.e, read, cl_rt::Device::On::transfer);
+            }
+            s.device->transfer_queue().flush();
+            const EdgePlan& p = plan[d];
+            if (!p.edges) return;
+            ps.reserve(p.end);
+            const std::uint32_t key_lo = column_key(need[d].lo), key_hi = need[d].hi > need[d].lo ? column_key(need[d].hi) : 0;
+            s.cells->enqueue_sort(ps, p.kept_all, ps.ranges.first_owned(), ps.ranges.end_owned(), p.kept_all, key_lo, key_hi,
+                                  false, from_left[d]);
+            s.device->flush();
+        });
         read.wait("reading particles for the neighbouring devices", options_.wait_mode);
     }
     {
-        PhaseTimer t(phases_, "exchange: write and sort");
+        PhaseTimer t(phases_, "exchange: writes, edges and tables");
         cl_rt::EventSet counted;
         // Each device on its own host thread: a write from memory pinned in another device's
-        // context may hold the thread until it is done (NVIDIA), and the sort is ~25 launches.
+        // context may hold the thread until it is done (NVIDIA).
         for_each_device([&](std::size_t e) {
             Slab& s = slabs_[e];
             auto& ps = *s.store;
-            const std::size_t active = ps.ranges.active(), n = incoming[e];
-            ps.reserve(active + n);
-            std::size_t to = active;
-            for (std::size_t k = 0; k < blocks.size(); ++k) {
-                const auto& b = blocks[k];
-                if (b.e != e) continue;
-                const std::size_t m = slabs_[b.d].cells->gather_count(b.index);
-                write_block(s, at[k], m, to, counted);
-                to += m;
-            }
-            s.device->flush();
+            const EdgePlan& p = plan[e];
+            const std::size_t n = from_left[e] + from_right[e];
+            // Arrivals into the inbox on the transfer queue: left senders first, then right ones.
+            s.cells->begin_inbox(n);
+            cl_rt::EventSet written;
+            std::size_t to = 0;
+            for (bool left : {true, false})
+                for (std::size_t k = 0; k < blocks.size(); ++k) {
+                    const auto& b = blocks[k];
+                    if (b.e != e || (b.d < b.e) != left) continue;
+                    const std::size_t m = slabs_[b.d].cells->gather_count(b.index);
+                    auto& c = *s.cells;
+                    write_block(*s.device, {c.inbox_pos, c.inbox_velrho, c.inbox_accel, c.inbox_id}, at[k], m, to, written,
+                                cl_rt::Device::On::transfer);
+                    to += m;
+                }
+            s.device->barrier(written);
             const std::uint32_t key_lo = column_key(need[e].lo), key_hi = need[e].hi > need[e].lo ? column_key(need[e].hi) : 0;
-            s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
-                                  false);
-            const std::size_t valid = s.cells->settled()[2] + n;
+            const std::size_t valid = p.kept + n;
+            if (p.edges) {
+                // [left arrivals | kept, sorted | dropped | right arrivals], then the two edges.
+                s.cells->enqueue_unpack_inbox(ps, 0, from_left[e], 0);
+                s.cells->enqueue_unpack_inbox(ps, from_left[e], from_right[e], from_left[e] + p.kept_all);
+                s.cells->enqueue_edge_sort(ps, p.left, p.right, p.end, from_left[e] + p.kept, from_left[e] + p.kept_all,
+                                           key_lo, key_hi, p.end - p.right - (p.kept_all - p.kept));
+                s.cells->enqueue_rekey(ps, valid);
+            } else {
+                // [everything held | arrivals], one sort that drops what is no longer needed here.
+                const std::size_t active = ps.ranges.active();
+                ps.reserve(active + n);
+                s.cells->enqueue_unpack_inbox(ps, 0, n, active);
+                s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
+                                      false);
+            }
+            for (auto& ev : written.events_of(*s.device)) counted.add(*s.device, ev);
             ps.ranges = device::ParticleRanges{0, valid, 0};
             s.cells->enqueue_count_cells(ps, valid, counted);
             enqueue_column_positions(s, valid, counted);

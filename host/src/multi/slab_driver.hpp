@@ -6,8 +6,11 @@
 // device settles its particles into cells and compacts, for every other device, what that device
 // now needs (its owned columns and one halo column either side) out of a window of its
 // still-sorted particles; the blocks go through pinned host memory (staging works across contexts
-// and vendors); each device sorts once ([ghosts | owned | ghosts], dropping what it no longer
-// needs) and builds its cell tables; forces; second kick. The first step (and any step where a
+// and vendors) on each device's transfer queue while its compute queue sorts the particles it
+// keeps, leaving room below and above for the arrivals; once they are in, only the two edges
+// where arrivals and kept particles meet are sorted, which leaves [ghosts | owned | ghosts] in
+// order; cell tables; forces; second kick. Each phase's commands are enqueued by one host thread
+// per device. The first step (and any step where a
 // particle jumped more than a column, which the CFL limit rules out) sorts, exchanges ranges and
 // sorts again instead. With one device, or one busy device and the others idle, no exchange.
 #pragma once
@@ -25,6 +28,7 @@
 #include <map>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,7 +45,9 @@ struct DriverOptions {
     std::string staging = "sender";   // whose pinned memory transfers are staged in: sender | receiver
     // How the host waits for the devices (cl/async.hpp); callbacks become polling where they are late.
     cl_rt::EventSet::Mode wait_mode = cl_rt::EventSet::Mode::callbacks;
-    std::string exchange = "window";  // window: one sort per step; sort: sort, exchange, sort again
+    // overlap: the kept particles sort while arrivals travel, then the edges; window: one sort per
+    // step once the arrivals are in; sort: sort, exchange, sort again.
+    std::string exchange = "overlap";
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
     std::uint64_t fail_at_step = 0;  // tests: simulated device failure (clsph/simulation.hpp)
     std::size_t fail_device = 0;
@@ -104,10 +110,11 @@ private:
     std::size_t redistribute_sorted();   // sort, exchange ranges, sort again (first step, fallback)
     std::optional<std::size_t> redistribute_windowed();  // one sort per step; nullopt: fall back
     void remember_columns(Slab& s);
-    struct BlockSource { const cl_rt::Buffer &pos, &velrho, &accel, &id; };
-    void read_block(std::size_t sender, const BlockSource& src, std::size_t from, std::size_t m, unsigned char* base,
-                    std::size_t receiver, cl_rt::EventSet& done);
-    void write_block(Slab& s, const unsigned char* base, std::size_t m, std::size_t to, cl_rt::EventSet& done);
+    struct BlockBuffers { cl_rt::Buffer &pos, &velrho, &accel, &id; };
+    void read_block(std::size_t sender, const BlockBuffers& src, std::size_t from, std::size_t m, unsigned char* base,
+                    std::size_t receiver, cl_rt::EventSet& done, cl_rt::Device::On on = cl_rt::Device::On::compute);
+    void write_block(cl_rt::Device& device, const BlockBuffers& dst, const unsigned char* base, std::size_t m,
+                     std::size_t to, cl_rt::EventSet& done, cl_rt::Device::On on = cl_rt::Device::On::compute);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done);
     StepOutcome forces_and_kick(double dt);
     void for_each_device(const std::function<void(std::size_t)>& work);  // one host thread per device
@@ -126,6 +133,7 @@ private:
     bool windowed_ready_ = false;   // every slab's column positions are known
     std::size_t fallbacks_ = 0;     // windowed steps that had to sort first  // the balancer runs at the next step's first sort
     std::size_t moved_ = 0, moved_bytes_ = 0;
+    std::mutex counts_mutex_;  // moved_, moved_bytes_ and received_bytes, from the device threads
     // Per device: pinned host memory that particles going between devices are staged in
     // (pos, velrho, accel: 16 bytes each; id: 4).
     static constexpr std::size_t kStagedBytesPerParticle = 52;
