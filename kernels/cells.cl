@@ -108,6 +108,34 @@ __kernel void flag_key_range(const uint first, const uint end, const uint key_lo
     flags[i - first] = key >= key_lo && key < key_hi;
 }
 
+// The edges' particles in sorted order (order[j]: where entry j comes from) into four regions of
+// the scratch buffer, m entries each: positions, velocity+density, acceleration, ids.
+__kernel void edge_gather(const uint m, __global const uint* order, __global const float4* pos,
+                          __global const float4* velrho, __global const float4* accel, __global const uint* id,
+                          __global float4* scratch) {
+    const uint j = get_global_id(0);
+    if (j >= m) return;
+    const uint i = order[j];
+    scratch[j] = pos[i];
+    scratch[m + j] = velrho[i];
+    scratch[2u * m + j] = accel[i];
+    ((__global uint*)(scratch + 3u * m))[j] = id[i];
+}
+
+// And back into place: entries [0, left) to particles [0, left), entries [left, left + kept_right)
+// to particles [right, right + kept_right) (the rest, dropped keys, sorted last, stay out).
+__kernel void edge_place(const uint m, const uint left, const uint right, const uint kept_right,
+                         __global const float4* scratch, __global float4* pos, __global float4* velrho,
+                         __global float4* accel, __global uint* id) {
+    const uint j = get_global_id(0);
+    if (j >= left + kept_right) return;
+    const uint i = j < left ? j : right + (j - left);
+    pos[i] = scratch[j];
+    velrho[i] = scratch[m + j];
+    accel[i] = scratch[2u * m + j];
+    id[i] = ((__global const uint*)(scratch + 3u * m))[j];
+}
+
 // The flagged particles (after the exclusive scan of the flags: their rank) copied, in order, to
 // out_*[base + rank]: a packed block that is then read to the host in four transfers.
 __kernel void gather_key_range(const uint first, const uint end, const uint key_lo, const uint key_hi,

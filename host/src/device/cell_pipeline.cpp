@@ -27,6 +27,8 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     flag_range_k_ = device.kernel("cells.cl", "flag_key_range", opts);
     gather_range_k_ = device.kernel("cells.cl", "gather_key_range", opts);
     edge_keys_k_ = device.kernel("cells.cl", "edge_keys", opts);
+    edge_gather_k_ = device.kernel("cells.cl", "edge_gather", opts);
+    edge_place_k_ = device.kernel("cells.cl", "edge_place", opts);
     reserve_cells(1024);
 }
 
@@ -158,28 +160,29 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, std::size_t left, std::s
     edge_keys_k_.setArg(10, edge_vals_.get());
     d.launch("edge.keys", edge_keys_k_, m, wg_);
     edge_sort_.sort(edge_keys_, edge_vals_, m, grid_.key_bits());
-    // Each array: the edges in sorted order into scratch, then the left part back to [0, left) and
-    // the right part's kept entries to [right, right + valid_right).
-    const std::size_t f4 = 4 * sizeof(cl_float), u = sizeof(cl_uint);
-    const cl_uint mm = static_cast<cl_uint>(m), zero = 0;
-    for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {
-        gather4_k_.setArg(0, mm);
-        gather4_k_.setArg(1, zero);
-        gather4_k_.setArg(2, edge_vals_.get());
-        gather4_k_.setArg(3, a->get());
-        gather4_k_.setArg(4, ps.scratch.get());
-        d.launch("edge.reorder.float4", gather4_k_, m, wg_);
-        d.copy(ps.scratch, *a, left * f4, 0, 0);
-        d.copy(ps.scratch, *a, valid_right * f4, left * f4, right * f4);
-    }
-    gather1_k_.setArg(0, mm);
-    gather1_k_.setArg(1, zero);
-    gather1_k_.setArg(2, edge_vals_.get());
-    gather1_k_.setArg(3, ps.id.get());
-    gather1_k_.setArg(4, ps.scratch.get());
-    d.launch("edge.reorder.uint", gather1_k_, m, wg_);
-    d.copy(ps.scratch, ps.id, left * u, 0, 0);
-    d.copy(ps.scratch, ps.id, valid_right * u, left * u, right * u);
+    // All four arrays' edge entries in sorted order into scratch (one launch), then back into place
+    // (one launch): [0, left) and the right part's kept entries to [right, right + valid_right).
+    if (edge_scratch_bytes(m) > ps.scratch.bytes())
+        throw Error("edge sort of " + std::to_string(m) + " particles does not fit the reorder scratch");
+    const cl_uint mm = static_cast<cl_uint>(m);
+    edge_gather_k_.setArg(0, mm);
+    edge_gather_k_.setArg(1, edge_vals_.get());
+    edge_gather_k_.setArg(2, ps.pos.get());
+    edge_gather_k_.setArg(3, ps.velrho.get());
+    edge_gather_k_.setArg(4, ps.accel.get());
+    edge_gather_k_.setArg(5, ps.id.get());
+    edge_gather_k_.setArg(6, ps.scratch.get());
+    d.launch("edge.gather", edge_gather_k_, m, wg_);
+    edge_place_k_.setArg(0, mm);
+    edge_place_k_.setArg(1, static_cast<cl_uint>(left));
+    edge_place_k_.setArg(2, static_cast<cl_uint>(right));
+    edge_place_k_.setArg(3, static_cast<cl_uint>(valid_right));
+    edge_place_k_.setArg(4, ps.scratch.get());
+    edge_place_k_.setArg(5, ps.pos.get());
+    edge_place_k_.setArg(6, ps.velrho.get());
+    edge_place_k_.setArg(7, ps.accel.get());
+    edge_place_k_.setArg(8, ps.id.get());
+    d.launch("edge.place", edge_place_k_, left + valid_right, wg_);
 }
 
 void CellPipeline::enqueue_rekey(ParticleStore& ps, std::size_t n_all) {

@@ -60,6 +60,8 @@ public:
                            std::size_t drop_first, std::size_t drop_end, std::uint32_t key_lo, std::uint32_t key_hi,
                            std::size_t valid_right);
     void enqueue_rekey(ParticleStore& store, std::size_t n);
+    // Bytes of the reorder scratch an edge sort of m particles uses (four arrays side by side).
+    static std::size_t edge_scratch_bytes(std::size_t m) { return m * (3 * 4 * sizeof(float) + sizeof(std::uint32_t)); }
 
     // The exchange with one sort per step (host/src/multi/): settle the drifted owned particles into
     // cells (keys in pos.w, nothing moved), reading back how many left the domain, how many moved
@@ -107,7 +109,7 @@ private:
     // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).
     cl_rt::PinnedArray<std::uint32_t> counters_host_, gather_counts_;
     std::size_t outbox_capacity_ = 0, inbox_capacity_ = 0;
-    cl::Kernel edge_keys_k_;
+    cl::Kernel edge_keys_k_, edge_gather_k_, edge_place_k_;
     cl_rt::Buffer edge_keys_, edge_vals_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;

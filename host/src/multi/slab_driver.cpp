@@ -515,7 +515,10 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
         p.left = from_left[e] + x;
         p.right = from_left[e] + p.kept - y;
         p.end = from_left[e] + p.kept_all + from_right[e];
-        p.edges = p.left < p.right && options_.exchange == "overlap";
+        // The edges go through the reorder scratch, four arrays side by side.
+        const std::size_t m = p.left + (p.end - p.right);
+        p.edges = p.left < p.right && options_.exchange == "overlap" &&
+                  device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float);
     }
     while (staging_.size() < D) staging_.push_back(std::make_unique<cl_rt::PinnedHost>());
     for (std::size_t d = 0; d < D; ++d) staging_[d]->reserve(*slabs_[d].device, staged[d] * kStagedBytesPerParticle);
@@ -556,7 +559,6 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
     }
     {
         PhaseTimer t(phases_, "exchange: writes, edges and tables");
-        cl_rt::EventSet counted;
         // Each device on its own host thread: a write from memory pinned in another device's
         // context may hold the thread until it is done (NVIDIA).
         for_each_device([&](std::size_t e) {
@@ -596,25 +598,24 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
                                       false);
             }
+            // The cell count and the column positions: this device's own round trip, waited for on
+            // its own thread, which then enqueues the rest of the tables at once.
+            cl_rt::EventSet counted;
             for (auto& ev : written.events_of(*s.device)) counted.add(*s.device, ev);
             ps.ranges = device::ParticleRanges{0, valid, 0};
             s.cells->enqueue_count_cells(ps, valid, counted);
             enqueue_column_positions(s, valid, counted);
-        });
-        counted.wait("sorting particles after the exchange", options_.wait_mode);
-        for (std::size_t e = 0; e < D; ++e) {
-            Slab& s = slabs_[e];
-            auto& ps = *s.store;
-            const std::size_t valid = ps.ranges.active();
+            counted.wait("sorting particles after the exchange", options_.wait_mode);
             const auto& l = s.cells->located();
             if (s.empty() || l.size() < 2) {
                 ps.ranges = device::ParticleRanges{0, 0, 0};
             } else {
                 ps.ranges = device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
             }
-            s.tables_due = true;  // finished by forces_and_kick, on the device's own thread
+            s.cells->finish_tables(ps, ps.ranges.active());
+            s.device->flush();
             remember_columns(s);
-        }
+        });
     }
     return removed;
 }
@@ -629,14 +630,11 @@ void SlabDriver::for_each_device(const std::function<void(std::size_t)>& work) {
 }
 
 StepOutcome SlabDriver::forces_and_kick(double dt) {
-    // Per device, on its own host thread: the rest of the cell tables, the force pass, the second
-    // kick and its reductions; then, while the force pass runs, the profiler folds in the step's
+    // Per device, on its own host thread: the force pass, the second kick and its reductions; then, while the force pass runs, the profiler folds in the step's
     // finished launches (so reading this step's force time after the wait is quick).
     cl_rt::EventSet done;
     for_each_device([&](std::size_t d) {
         Slab& s = slabs_[d];
-        if (s.tables_due) s.cells->finish_tables(*s.store, s.store->ranges.active());
-        s.tables_due = false;
         const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
         for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
         if (options_.serialize) s.device->finish();

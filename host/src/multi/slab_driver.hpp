@@ -60,7 +60,6 @@ struct Slab {
     std::unique_ptr<device::Physics> physics;
     std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
     double force_seconds = 0;                // last step's force pass time (the balancer's input)
-    bool tables_due = false;                 // the exchange left finish_tables to forces_and_kick
     double force_total_seen = 0;             // the profiler's force total when force_seconds was taken
     std::size_t received_bytes = 0;         // copied in from other devices since the start
     // Where each owned column [columns_first, columns_end] began in the sorted array after the last
