@@ -208,7 +208,7 @@ std::size_t SlabDriver::owned() const {
     return n;
 }
 
-std::size_t SlabDriver::redistribute() {
+std::size_t SlabDriver::redistribute(const PerDevice& then) {
     const std::size_t D = slabs_.size();
     const std::uint32_t invalid = grid_.params().invalid_key;
     std::size_t removed = 0;
@@ -246,12 +246,15 @@ std::size_t SlabDriver::redistribute() {
             s.columns_end = s.end_col;
             windowed_ready_ = true;
         }
+        for_each_device(then);
         return removed;
     }
     if (options_.exchange != "sort" && windowed_ready_) {
-        if (const auto r = redistribute_windowed()) return *r;
+        if (const auto r = redistribute_windowed(then)) return *r;
     }
-    return redistribute_sorted();
+    removed = redistribute_sorted();
+    for_each_device(then);
+    return removed;
 }
 
 std::vector<SlabDriver::Need> SlabDriver::needs() const {
@@ -423,7 +426,7 @@ void SlabDriver::remember_columns(Slab& s) {
     }
 }
 
-std::optional<std::size_t> SlabDriver::redistribute_windowed() {
+std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& then) {
     // One sort per step. Particles move less than a column per step (CFL), so what device e needs
     // from device d (its particles now in e's columns [lo, hi)) was, before the drift, in d's
     // columns [lo - 1, hi + 1): a window of d's still-sorted array, known from the last step's
@@ -613,8 +616,8 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed() {
                 ps.ranges = device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
             }
             s.cells->finish_tables(ps, ps.ranges.active());
-            s.device->flush();
             remember_columns(s);
+            then(e);
         });
     }
     return removed;
@@ -629,19 +632,20 @@ void SlabDriver::for_each_device(const std::function<void(std::size_t)>& work) {
     threads_->run(work);
 }
 
-StepOutcome SlabDriver::forces_and_kick(double dt) {
-    // Per device, on its own host thread: the force pass, the second kick and its reductions; then, while the force pass runs, the profiler folds in the step's
-    // finished launches (so reading this step's force time after the wait is quick).
-    cl_rt::EventSet done;
-    for_each_device([&](std::size_t d) {
-        Slab& s = slabs_[d];
-        const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
-        for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
-        if (options_.serialize) s.device->finish();
-        if (s.store->ranges.owned > 0) s.physics->enqueue_kick(*s.store, dt, done);  // idle devices rest
-        s.device->flush();
-        if (slabs_.size() > 1) s.device->profiler().collect_finished();
-    });
+void SlabDriver::enqueue_forces_and_kick(std::size_t d, double dt, cl_rt::EventSet& done) {
+    // On the device's own host thread, as soon as its tables are enqueued: the force pass, the
+    // second kick and its reductions; then, while the force pass runs, the profiler folds in the
+    // step's finished launches (so reading this step's force time after the wait is quick).
+    Slab& s = slabs_[d];
+    const int repeat = d < options_.slowdown.size() ? std::max(1, options_.slowdown[d]) : 1;
+    for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
+    if (options_.serialize) s.device->finish();
+    if (s.store->ranges.owned > 0) s.physics->enqueue_kick(*s.store, dt, done);  // idle devices rest
+    s.device->flush();
+    if (slabs_.size() > 1) s.device->profiler().collect_finished();
+}
+
+StepOutcome SlabDriver::finish_kick(cl_rt::EventSet& done) {
     done.wait("the second kick", options_.wait_mode);
     StepOutcome out;
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
@@ -660,8 +664,9 @@ StepOutcome SlabDriver::forces_and_kick(double dt) {
 }
 
 StepOutcome SlabDriver::start() {
-    const std::size_t removed = redistribute();
-    StepOutcome out = forces_and_kick(0.0);
+    cl_rt::EventSet done;
+    const std::size_t removed = redistribute([&](std::size_t d) { enqueue_forces_and_kick(d, 0.0, done); });
+    StepOutcome out = finish_kick(done);
     out.removed = removed;
     for (auto& s : slabs_) {  // the first step's force time counts from here
         s.force_total_seen = profiled_seconds(*s.device, "sph.forces");
@@ -688,11 +693,12 @@ StepOutcome SlabDriver::step(double dt) {
         slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
         slabs_[d].device->flush();
     });
-    const std::size_t removed = redistribute();
+    cl_rt::EventSet done;
+    const std::size_t removed = redistribute([&](std::size_t d) { enqueue_forces_and_kick(d, dt, done); });
     StepOutcome out;
     {
         PhaseTimer t(phases_, "forces and kick");
-        out = forces_and_kick(dt);
+        out = finish_kick(done);
     }
     out.removed = removed;
     ++steps_;

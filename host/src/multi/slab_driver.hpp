@@ -105,9 +105,12 @@ private:
     std::size_t owner_of(std::uint32_t key) const;
     struct Need { std::size_t lo = 0, first = 0, end = 0, hi = 0; };
     std::vector<Need> needs() const;
-    std::size_t redistribute();          // exchange, sort, tables; returns removed
+    // Exchange, sort, tables, then `then(d)` for every device (on its own host thread where there
+    // are several, as soon as its tables are enqueued); returns the particles removed.
+    using PerDevice = std::function<void(std::size_t)>;
+    std::size_t redistribute(const PerDevice& then);
     std::size_t redistribute_sorted();   // sort, exchange ranges, sort again (first step, fallback)
-    std::optional<std::size_t> redistribute_windowed();  // one sort per step; nullopt: fall back
+    std::optional<std::size_t> redistribute_windowed(const PerDevice& then);  // nullopt: fall back
     void remember_columns(Slab& s);
     struct BlockBuffers { cl_rt::Buffer &pos, &velrho, &accel, &id; };
     void read_block(std::size_t sender, const BlockBuffers& src, std::size_t from, std::size_t m, unsigned char* base,
@@ -115,7 +118,8 @@ private:
     void write_block(cl_rt::Device& device, const BlockBuffers& dst, const unsigned char* base, std::size_t m,
                      std::size_t to, cl_rt::EventSet& done, cl_rt::Device::On on = cl_rt::Device::On::compute);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done);
-    StepOutcome forces_and_kick(double dt);
+    void enqueue_forces_and_kick(std::size_t d, double dt, cl_rt::EventSet& done);
+    StepOutcome finish_kick(cl_rt::EventSet& done);  // waits, then the reductions over all devices
     void for_each_device(const std::function<void(std::size_t)>& work);  // one host thread per device
     void rebalance(std::uint64_t step);
     void calibrate(const Particles& p, const std::vector<std::uint32_t>& key, const balance::ColumnProfile& profile);
