@@ -624,7 +624,11 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
 }
 
 void SlabDriver::for_each_device(const std::function<void(std::size_t)>& work) {
-    if (slabs_.size() == 1 || options_.serialize) {
+    // One thread suffices where at most one device has anything to do (a GPU next to an idle CPU):
+    // handing work to the other threads would only add their wake-ups to every phase.
+    std::size_t busy = 0;
+    for (const auto& s : slabs_) busy += !s.empty() || s.store->ranges.active() > 0;
+    if (slabs_.size() == 1 || options_.serialize || busy <= 1) {
         for (std::size_t d = 0; d < slabs_.size(); ++d) work(d);
         return;
     }
