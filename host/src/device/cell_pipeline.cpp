@@ -5,6 +5,18 @@
 #include <algorithm>
 
 namespace clsph::device {
+namespace {
+// The four arrays of a block of `cap` particles that go between devices (the old ones freed first).
+void alloc_block(cl_rt::Device& d, std::size_t cap, const std::string& what, cl_rt::Buffer& pos, cl_rt::Buffer& velrho,
+                 cl_rt::Buffer& accel, cl_rt::Buffer& id) {
+    const std::size_t f4 = 4 * sizeof(cl_float);
+    for (cl_rt::Buffer* b : {&pos, &velrho, &accel, &id}) *b = cl_rt::Buffer();
+    pos = d.alloc(cap * f4, what + ": positions");
+    velrho = d.alloc(cap * f4, what + ": velocity+density");
+    accel = d.alloc(cap * f4, what + ": acceleration");
+    id = d.alloc(cap * sizeof(cl_uint), what + ": ids");
+}
+}  // namespace
 
 CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     : device_(device),
@@ -115,14 +127,8 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
 void CellPipeline::begin_inbox(std::size_t particles) {
     if (particles <= inbox_capacity_ && inbox_pos) return;
     auto& d = device_;
-    const std::size_t cap = particles + particles / 4 + 1024;
-    const std::size_t f4 = 4 * sizeof(cl_float);
-    for (cl_rt::Buffer* b : {&inbox_pos, &inbox_velrho, &inbox_accel, &inbox_id}) *b = cl_rt::Buffer();
-    inbox_pos = d.alloc(cap * f4, "exchange inbox: positions");
-    inbox_velrho = d.alloc(cap * f4, "exchange inbox: velocity+density");
-    inbox_accel = d.alloc(cap * f4, "exchange inbox: acceleration");
-    inbox_id = d.alloc(cap * sizeof(cl_uint), "exchange inbox: ids");
-    inbox_capacity_ = cap;
+    inbox_capacity_ = particles + particles / 4 + 1024;
+    alloc_block(d, inbox_capacity_, "exchange inbox", inbox_pos, inbox_velrho, inbox_accel, inbox_id);
 }
 
 void CellPipeline::enqueue_unpack_inbox(ParticleStore& ps, std::size_t from, std::size_t count, std::size_t to) {
@@ -308,14 +314,8 @@ void CellPipeline::begin_gathers(std::size_t blocks, std::size_t particles) {
     gather_counts_.resize(d, blocks);
     std::fill(gather_counts_.data(), gather_counts_.data() + blocks, 0u);
     if (particles > outbox_capacity_ || !outbox_pos) {
-        const std::size_t cap = particles + particles / 4 + 1024;
-        const std::size_t f4 = 4 * sizeof(cl_float);
-        for (cl_rt::Buffer* b : {&outbox_pos, &outbox_velrho, &outbox_accel, &outbox_id}) *b = cl_rt::Buffer();
-        outbox_pos = d.alloc(cap * f4, "exchange outbox: positions");
-        outbox_velrho = d.alloc(cap * f4, "exchange outbox: velocity+density");
-        outbox_accel = d.alloc(cap * f4, "exchange outbox: acceleration");
-        outbox_id = d.alloc(cap * sizeof(cl_uint), "exchange outbox: ids");
-        outbox_capacity_ = cap;
+        outbox_capacity_ = particles + particles / 4 + 1024;
+        alloc_block(d, outbox_capacity_, "exchange outbox", outbox_pos, outbox_velrho, outbox_accel, outbox_id);
     }
 }
 
