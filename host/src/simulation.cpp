@@ -94,14 +94,8 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.fail_device = options.fail_device;
     // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=overlap|window|sort
     // (the kept particles sort while arrivals travel, then the edges; one sort after the arrivals;
-    // or sort / exchange / sort again), CLSPH_STAGING=sender|receiver,
-    // CLSPH_WAIT=callbacks|poll|block (callbacks: sleep on event callbacks where the driver delivers
+    // or sort / exchange / sort again), CLSPH_WAIT=callbacks|poll|block (callbacks: sleep on event callbacks where the driver delivers
     // them on time, polling elsewhere).
-    if (const char* v = std::getenv("CLSPH_STAGING")) {
-        dopt.staging = v;
-        if (dopt.staging != "sender" && dopt.staging != "receiver")
-            throw Error(std::string("CLSPH_STAGING: unknown value '") + v + "' (use sender or receiver)");
-    }
     if (const char* v = std::getenv("CLSPH_EXCHANGE")) {
         dopt.exchange = v;
         if (dopt.exchange != "overlap" && dopt.exchange != "window" && dopt.exchange != "sort")

@@ -42,7 +42,6 @@ struct DriverOptions {
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
     bool serialize = false;           // tests: one device's force pass at a time
     double headroom = 0.25;
-    std::string staging = "sender";   // whose pinned memory transfers are staged in: sender | receiver
     // How the host waits for the devices (cl/async.hpp); callbacks become polling where they are late.
     cl_rt::EventSet::Mode wait_mode = cl_rt::EventSet::Mode::callbacks;
     // overlap: the kept particles sort while arrivals travel, then the edges; window: one sort per
