@@ -82,6 +82,13 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
 void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_t keep_first, std::size_t keep_end,
                                 std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle,
                                 std::size_t dst_offset) {
+    enqueue_sort_keys(ps, n_all, keep_first, keep_end, tail_first, key_lo, key_hi, settle);
+    enqueue_reorder(ps, n_all, dst_offset);
+}
+
+void CellPipeline::enqueue_sort_keys(ParticleStore& ps, std::size_t n_all, std::size_t keep_first,
+                                     std::size_t keep_end, std::size_t tail_first, std::uint32_t key_lo,
+                                     std::uint32_t key_hi, bool settle) {
     auto& d = device_;
     const cl_uint n = static_cast<cl_uint>(n_all);
     const GridParams g = grid_.params();
@@ -101,7 +108,12 @@ void CellPipeline::enqueue_sort(ParticleStore& ps, std::size_t n_all, std::size_
     d.launch("cells.keys", keys_k_, n, wg_);
 
     sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
+}
 
+void CellPipeline::enqueue_reorder(ParticleStore& ps, std::size_t n_all, std::size_t dst_offset) {
+    auto& d = device_;
+    const cl_uint n = static_cast<cl_uint>(n_all);
+    if (n == 0) return;
     // Reorder through the one scratch buffer: gather A into scratch, then swap A and scratch.
     const cl_uint at = static_cast<cl_uint>(dst_offset);
     for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {

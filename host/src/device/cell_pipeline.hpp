@@ -46,6 +46,11 @@ public:
     void enqueue_sort(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end,
                       std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle,
                       std::size_t dst_offset = 0);
+    // enqueue_sort in two halves: the keys and their sort (which need no offset), then moving every
+    // array into that order at dst_offset.
+    void enqueue_sort_keys(ParticleStore& store, std::size_t n, std::size_t keep_first, std::size_t keep_end,
+                           std::size_t tail_first, std::uint32_t key_lo, std::uint32_t key_hi, bool settle);
+    void enqueue_reorder(ParticleStore& store, std::size_t n, std::size_t dst_offset);
 
     // The exchange overlapped with the sort (host/src/multi/): arrivals are written into the inbox
     // (on the transfer queue, while the kept particles sort), then copied to their places around

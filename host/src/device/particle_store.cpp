@@ -40,10 +40,9 @@ bool ParticleStore::reserve(std::size_t n) {
     grow(velrho, f4, cap, "particle velocity+density");
     grow(accel, f4, cap, "particle acceleration+drho/dt");
     grow(id, u, cap, "particle ids");
-    keys = cl_rt::Buffer();
-    keys = device_.alloc((cap + 1) * u, "sort keys");
-    vals = cl_rt::Buffer();
-    vals = device_.alloc((cap + 1) * u, "sort values / cell index");
+    // Keys and values too: a sort of the active particles may already be in them (several devices).
+    grow(keys, u, cap + 1, "sort keys");
+    grow(vals, u, cap + 1, "sort values / cell index");
     scratch = cl_rt::Buffer();
     scratch = device_.alloc(cap * f4, "reorder scratch");
     capacity_ = cap;

@@ -441,6 +441,15 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
     const auto need = needs();
     struct Block { std::size_t d, e, index, base; };
     std::vector<Block> blocks;
+    // Devices that may take the overlapped path (below) sort the keys of what they keep right after
+    // the gathers, so the counts' round trip runs beside that sort; only moving the particles into
+    // that order has to wait for the counts (it needs the room for the left arrivals).
+    std::vector<char> presorted(D, 0);
+    for (std::size_t d = 0; d < D; ++d) {
+        const Slab& s = slabs_[d];
+        presorted[d] = options_.exchange == "overlap" && !s.empty() && s.store->ranges.active() > 0 &&
+                       s.column_at.size() == s.columns_end - s.columns_first + 1 && s.columns_end - s.columns_first >= 4;
+    }
     {
         PhaseTimer t(phases_, "exchange: settle and gather");
         cl_rt::EventSet gathered;
@@ -473,6 +482,10 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
                 sent[d].push_back({d, w.e, k, base});
                 base += w.end - w.first;
             }
+            if (presorted[d])
+                s.cells->enqueue_sort_keys(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned(),
+                                           ps.ranges.active(), column_key(need[d].lo),
+                                           need[d].hi > need[d].lo ? column_key(need[d].hi) : 0, false);
             s.device->flush();
         });
         for (const auto& v : sent) blocks.insert(blocks.end(), v.begin(), v.end());
@@ -511,7 +524,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
         p.kept_all = ps.ranges.active();     // sorted as a whole; ghosts and leavers drop to its end
         p.kept = s.cells->settled()[2];      // of which stay (their keys lie in this device's need)
         const std::size_t last = s.columns_end - s.columns_first;
-        if (s.empty() || s.column_at.size() != last + 1 || last < 4 || p.kept == 0) continue;
+        if (!presorted[e] || p.kept == 0) continue;
         const std::size_t x = std::min<std::size_t>(p.kept, s.column_at[2] - s.column_at[0]);
         const std::size_t y = std::min<std::size_t>(p.kept, s.column_at[last] - s.column_at[last - 2]);
         p.left = from_left[e] + x;
@@ -551,10 +564,8 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
             s.device->transfer_queue().flush();
             const EdgePlan& p = plan[d];
             if (!p.edges) return;
-            ps.reserve(p.end);
-            const std::uint32_t key_lo = column_key(need[d].lo), key_hi = need[d].hi > need[d].lo ? column_key(need[d].hi) : 0;
-            s.cells->enqueue_sort(ps, p.kept_all, ps.ranges.first_owned(), ps.ranges.end_owned(), p.kept_all, key_lo, key_hi,
-                                  false, from_left[d]);
+            ps.reserve(p.end);  // keeps the sorted keys
+            s.cells->enqueue_reorder(ps, p.kept_all, from_left[d]);
             s.device->flush();
         });
         read.wait("reading particles for the neighbouring devices", options_.wait_mode);
