@@ -275,19 +275,14 @@ std::size_t SlabDriver::redistribute_sorted() {
     const std::uint32_t invalid = grid_.params().invalid_key;
     std::size_t removed = 0;
     // 1. Sort each device's owned particles (stale ghosts dropped): columns ascending, so what every
-    //    device needs from it is one contiguous range. All devices sort at once, while the balancer
-    //    moves the cuts from the last step's force times.
+    //    device needs from it is one contiguous range. All devices sort at once (the balancer has
+    //    already moved the cuts: redistribute()).
     cl_rt::EventSet located;
     PhaseTimer t1(phases_, "exchange: sort and locate");
     for (std::size_t d = 0; d < D; ++d) {
         auto& ps = *slabs_[d].store;
         slabs_[d].cells->enqueue_sort(ps, ps.ranges.active(), ps.ranges.first_owned(), ps.ranges.end_owned());
         slabs_[d].device->flush();
-    }
-    if (rebalance_due_) {
-        PhaseTimer t(phases_, "balance (while sorting)");
-        rebalance(steps_);
-        rebalance_due_ = false;
     }
     const auto need = needs();
     std::vector<std::uint32_t> thresholds;
@@ -433,11 +428,6 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
     // to pinned host memory, written after e's particles, and one sort per device then orders
     // [ghosts | owned | ghosts] and drops what e no longer needs.
     const std::size_t D = slabs_.size();
-    if (rebalance_due_) {
-        PhaseTimer t(phases_, "balance");
-        rebalance(steps_);
-        rebalance_due_ = false;
-    }
     const auto need = needs();
     struct Block { std::size_t d, e, index, base; };
     std::vector<Block> blocks;
@@ -724,7 +714,7 @@ StepOutcome SlabDriver::step(double dt) {
             s.force_seconds = total - (total >= s.force_total_seen ? s.force_total_seen : 0.0);  // 0: cleared
             s.force_total_seen = total;
         }
-        rebalance_due_ = !options_.cut_schedule;  // at the next step's sort
+        rebalance_due_ = !options_.cut_schedule;  // at the start of the next step's exchange
     }
     return out;
 }
