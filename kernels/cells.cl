@@ -2,11 +2,17 @@
 // cell's 9 neighbour rows as particle ranges. See host/src/device/cell_pipeline.cpp for the order.
 #include "grid.h"
 
-// Moves one axis' offset back into [-cell/2, cell/2) by changing the cell; returns false when the
-// particle leaves the domain along that axis.
+// Moves one axis' offset back into [-cell/2, cell/2] by changing the cell; returns false when the
+// particle leaves the domain along that axis. Idempotent: an offset already inside (faces
+// included) is left alone, so settling twice gives what settling once does. (With the rounded
+// quotient alone, an offset at +cell/2 moved to the next cell, landed a rounding below -cell/2
+// and moved back the next time: one device and several, which settle a different number of
+// times, then disagreed in the last bit.) After a move by one cell the new offset is exact
+// (Sterbenz), so it lies inside.
 inline bool settle_axis(float* offset, uint* cell, const float cell_size, const uint count, const float extent,
                         const uint periodic) {
-    const float shift = floor(*offset / cell_size + 0.5f);
+    const float half_cell = 0.5f * cell_size;
+    const float shift = (*offset > half_cell || *offset < -half_cell) ? floor(*offset / cell_size + 0.5f) : 0.0f;
     int c = (int)(*cell) + (int)shift;
     *offset -= shift * cell_size;
     if (periodic) {
