@@ -194,6 +194,25 @@ __kernel void edge_keys(const uint left, const uint right, const uint end, const
     vals[j] = i;
 }
 
+// The sort input of a device whose edges cannot be sorted alone (a slab too narrow for them, or
+// no column positions yet): in memory the particles it held, [0, held), then the arrivals, left
+// ones first; taken in the order [left arrivals | held | right arrivals], the order one device
+// would hold them in, so the stable sort leaves every cell in the canonical order. Held particles
+// outside [keep_first, keep_end) (stale ghosts) or with a key outside [key_lo, key_hi) get
+// invalid_key; arrivals are all kept. vals[j] = where entry j lives.
+__kernel void arrival_keys(const uint held, const uint left, const uint right, const uint keep_first,
+                           const uint keep_end, const uint key_lo, const uint key_hi, const uint invalid_key,
+                           __global const float4* pos, __global uint* keys, __global uint* vals) {
+    const uint j = get_global_id(0);
+    if (j >= held + left + right) return;
+    const bool arrival = j < left || j >= left + held;
+    const uint i = j < left ? held + j : (j < left + held ? j - left : j);
+    uint key = pos_key(pos[i]);
+    if (!arrival && (i < keep_first || i >= keep_end || key < key_lo || key >= key_hi)) key = invalid_key;
+    keys[j] = key;
+    vals[j] = i;
+}
+
 inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }
 
 // flags[i] = 1 where a new key begins (all keys in [0, n) are valid cell keys).

@@ -10,7 +10,6 @@
 #include "multi/slab_driver.hpp"
 
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -92,23 +91,10 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     dopt.cut_schedule = options.cut_schedule;
     dopt.fail_at_step = options.fail_at_step;
     dopt.fail_device = options.fail_device;
-    // Tuning knobs for the exchange (measured in BENCHMARKS.md): CLSPH_EXCHANGE=overlap|window|sort
-    // (the kept particles sort while arrivals travel, then the edges; one sort after the arrivals;
-    // or sort / exchange / sort again), CLSPH_WAIT=callbacks|poll|block (callbacks: sleep on event callbacks where the driver delivers
-    // them on time, polling elsewhere).
-    if (const char* v = std::getenv("CLSPH_EXCHANGE")) {
-        dopt.exchange = v;
-        if (dopt.exchange != "overlap" && dopt.exchange != "window" && dopt.exchange != "sort")
-            throw Error(std::string("CLSPH_EXCHANGE: unknown value '") + v + "' (use overlap, window or sort)");
-    }
-    if (const char* v = std::getenv("CLSPH_WAIT")) {
-        const std::string w = v;
-        using Mode = cl_rt::EventSet::Mode;
-        if (w == "callbacks") dopt.wait_mode = Mode::callbacks;
-        else if (w == "poll") dopt.wait_mode = Mode::poll;
-        else if (w == "block") dopt.wait_mode = Mode::block;
-        else throw Error("CLSPH_WAIT: unknown value '" + w + "' (use callbacks, poll or block)");
-    }
+    using Mode = cl_rt::EventSet::Mode;
+    dopt.wait_mode = options.wait == WaitMode::poll    ? Mode::poll
+                     : options.wait == WaitMode::block ? Mode::block
+                                                       : Mode::callbacks;
     m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
     const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
     if (k.kick.bad_index >= 0) m.fail(k);

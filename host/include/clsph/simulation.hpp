@@ -12,6 +12,11 @@
 
 namespace clsph {
 
+// How the host waits for the devices' work (several devices): sleeping on event callbacks where
+// the driver delivers them on time and polling the events' status elsewhere (the default),
+// always polling, or blocking in clWaitForEvents (on time everywhere, but it spins a core on NVIDIA).
+enum class WaitMode { callbacks, poll, block };
+
 struct Options {
     std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
     bool profile = false;      // per-kernel times (profile())
@@ -20,6 +25,7 @@ struct Options {
     double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
     std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
+    WaitMode wait = WaitMode::callbacks;
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
     // Tests and diagnostics: run each device's force pass alone (wait for it before starting the
     // next), so devices that share a CPU are timed without each other's load.

@@ -41,6 +41,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     edge_keys_k_ = device.kernel("cells.cl", "edge_keys", opts);
     edge_gather_k_ = device.kernel("cells.cl", "edge_gather", opts);
     edge_place_k_ = device.kernel("cells.cl", "edge_place", opts);
+    arrival_keys_k_ = device.kernel("cells.cl", "arrival_keys", opts);
     reserve_cells(1024);
 }
 
@@ -218,6 +219,27 @@ void CellPipeline::enqueue_rekey(ParticleStore& ps, std::size_t n_all) {
     keys_k_.setArg(9, ps.keys.get());
     keys_k_.setArg(10, ps.vals.get());
     device_.launch("cells.rekey", keys_k_, n, wg_);
+}
+
+void CellPipeline::enqueue_sort_with_arrivals(ParticleStore& ps, std::size_t held, std::size_t left, std::size_t right,
+                                              std::size_t keep_first, std::size_t keep_end, std::uint32_t key_lo,
+                                              std::uint32_t key_hi) {
+    const std::size_t n = held + left + right;
+    if (n == 0) return;
+    arrival_keys_k_.setArg(0, static_cast<cl_uint>(held));
+    arrival_keys_k_.setArg(1, static_cast<cl_uint>(left));
+    arrival_keys_k_.setArg(2, static_cast<cl_uint>(right));
+    arrival_keys_k_.setArg(3, static_cast<cl_uint>(keep_first));
+    arrival_keys_k_.setArg(4, static_cast<cl_uint>(keep_end));
+    arrival_keys_k_.setArg(5, static_cast<cl_uint>(key_lo));
+    arrival_keys_k_.setArg(6, static_cast<cl_uint>(key_hi));
+    arrival_keys_k_.setArg(7, grid_.params().invalid_key);
+    arrival_keys_k_.setArg(8, ps.pos.get());
+    arrival_keys_k_.setArg(9, ps.keys.get());
+    arrival_keys_k_.setArg(10, ps.vals.get());
+    device_.launch("cells.arrival_keys", arrival_keys_k_, n, wg_);
+    sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
+    enqueue_reorder(ps, n, 0);
 }
 
 std::vector<std::size_t> CellPipeline::locate(ParticleStore& ps, std::size_t n_all,

@@ -65,6 +65,13 @@ public:
                            std::size_t drop_first, std::size_t drop_end, std::uint32_t key_lo, std::uint32_t key_hi,
                            std::size_t valid_right);
     void enqueue_rekey(ParticleStore& store, std::size_t n);
+    // Where the edges cannot be sorted alone: the particles held [0, held) (only those of
+    // [keep_first, keep_end) with a key in [key_lo, key_hi) stay) and the arrivals unpacked after
+    // them (`left` then `right`), sorted as [left arrivals | held | right arrivals] (the canonical
+    // order: what one device would have) into [0, kept + left + right).
+    void enqueue_sort_with_arrivals(ParticleStore& store, std::size_t held, std::size_t left, std::size_t right,
+                                    std::size_t keep_first, std::size_t keep_end, std::uint32_t key_lo,
+                                    std::uint32_t key_hi);
     // Bytes of the reorder scratch an edge sort of m particles uses (four arrays side by side).
     static std::size_t edge_scratch_bytes(std::size_t m) { return m * (3 * 4 * sizeof(float) + sizeof(std::uint32_t)); }
 
@@ -114,7 +121,7 @@ private:
     // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).
     cl_rt::PinnedArray<std::uint32_t> counters_host_, gather_counts_;
     std::size_t outbox_capacity_ = 0, inbox_capacity_ = 0;
-    cl::Kernel edge_keys_k_, edge_gather_k_, edge_place_k_;
+    cl::Kernel edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
     cl_rt::Buffer edge_keys_, edge_vals_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_, invalid_k_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;

@@ -249,7 +249,7 @@ std::size_t SlabDriver::redistribute(const PerDevice& then) {
         for_each_device(then);
         return removed;
     }
-    if (options_.exchange != "sort" && windowed_ready_) {
+    if (windowed_ready_) {
         if (const auto r = redistribute_windowed(then)) return *r;
     }
     removed = redistribute_sorted();
@@ -353,14 +353,16 @@ std::size_t SlabDriver::redistribute_sorted() {
             const std::size_t k0 = at(e, e, 0), k1 = at(e, e, 3), n = incoming[e];
             ps.ranges = device::ParticleRanges{0, k1, 0};  // what reserve() keeps
             ps.reserve(k1 + n);
-            std::size_t to = k1;
-            for (const auto& g : segments) {
+            std::size_t to = k1, from_left = 0;
+            for (const auto& g : segments) {  // senders ascending: the left ones first
                 if (g.e != e) continue;
                 const std::size_t m = g.hi - g.lo;
                 write_block(*s.device, {ps.pos, ps.velrho, ps.accel, ps.id}, g.base, m, to, counted);
                 to += m;
+                if (g.d < e) from_left += m;
             }
-            s.cells->enqueue_sort(ps, k1 + n, k0, k1 + n);
+            // Sorted in the canonical order [left arrivals | kept | right arrivals].
+            s.cells->enqueue_sort_with_arrivals(ps, k1, from_left, n - from_left, k0, k1, 0, invalid);
             ps.ranges = device::ParticleRanges{before[e], mine[e], after[e]};
             s.cells->enqueue_count_cells(ps, ps.ranges.active(), counted);
             enqueue_column_positions(s, ps.ranges.active(), counted);
@@ -437,7 +439,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
     std::vector<char> presorted(D, 0);
     for (std::size_t d = 0; d < D; ++d) {
         const Slab& s = slabs_[d];
-        presorted[d] = options_.exchange == "overlap" && !s.empty() && s.store->ranges.active() > 0 &&
+        presorted[d] = !s.empty() && s.store->ranges.active() > 0 &&
                        s.column_at.size() == s.columns_end - s.columns_first + 1 && s.columns_end - s.columns_first >= 4;
     }
     {
@@ -522,7 +524,7 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
         p.end = from_left[e] + p.kept_all + from_right[e];
         // The edges go through the reorder scratch, four arrays side by side.
         const std::size_t m = p.left + (p.end - p.right);
-        p.edges = p.left < p.right && options_.exchange == "overlap" &&
+        p.edges = p.left < p.right &&
                   device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float);
     }
     while (staging_.size() < D) staging_.push_back(std::make_unique<cl_rt::PinnedHost>());
@@ -594,12 +596,13 @@ std::optional<std::size_t> SlabDriver::redistribute_windowed(const PerDevice& th
                                            key_lo, key_hi, p.end - p.right - (p.kept_all - p.kept));
                 s.cells->enqueue_rekey(ps, valid);
             } else {
-                // [everything held | arrivals], one sort that drops what is no longer needed here.
+                // [everything held | arrivals], one sort that takes them in the canonical order
+                // [left arrivals | held | right arrivals] and drops what is no longer needed here.
                 const std::size_t active = ps.ranges.active();
                 ps.reserve(active + n);
                 s.cells->enqueue_unpack_inbox(ps, 0, n, active);
-                s.cells->enqueue_sort(ps, active + n, ps.ranges.first_owned(), ps.ranges.end_owned(), active, key_lo, key_hi,
-                                      false);
+                s.cells->enqueue_sort_with_arrivals(ps, active, from_left[e], from_right[e], ps.ranges.first_owned(),
+                                                    ps.ranges.end_owned(), key_lo, key_hi);
             }
             // The cell count and the column positions: this device's own round trip, waited for on
             // its own thread, which then enqueues the rest of the tables at once.

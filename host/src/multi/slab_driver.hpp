@@ -44,9 +44,6 @@ struct DriverOptions {
     double headroom = 0.25;
     // How the host waits for the devices (cl/async.hpp); callbacks become polling where they are late.
     cl_rt::EventSet::Mode wait_mode = cl_rt::EventSet::Mode::callbacks;
-    // overlap: the kept particles sort while arrivals travel, then the edges; window: one sort per
-    // step once the arrivals are in; sort: sort, exchange, sort again.
-    std::string exchange = "overlap";
     std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> cut_schedule;  // tests
     std::uint64_t fail_at_step = 0;  // tests: simulated device failure (clsph/simulation.hpp)
     std::size_t fail_device = 0;
