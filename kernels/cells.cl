@@ -280,11 +280,3 @@ __kernel void neighbour_ranges(const uint k, const GridParams g, __global const 
         }
     }
 }
-
-// Particles [first, end) leave this device (they were sent to another): their key becomes invalid
-// so the next sort drops them.
-__kernel void mark_invalid(const uint first, const uint end, const uint invalid_key, __global float4* pos) {
-    const uint i = first + (uint)get_global_id(0);
-    if (i >= end) return;
-    pos[i].w = as_float(invalid_key);
-}

@@ -1,6 +1,7 @@
 #include "make_simulation.hpp"
 
 #include <clsph/error.hpp>
+#include <clsph/testing.hpp>
 
 #include <cstdlib>
 #include <sstream>
@@ -23,8 +24,10 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
         std::istringstream in(text);
         if (!(in >> step) || step == 0 || (in >> colon && (colon != ':' || !(in >> device))) || !in.eof())
             throw Error("CLSPH_TEST_DEVICE_FAILURE: expected STEP or STEP:DEVICE (STEP >= 1), got '" + text + "'");
-        opts.fail_at_step = step;
-        opts.fail_device = device;
+        testing::Seams seams;
+        seams.fail_at_step = step;
+        seams.fail_device = device;
+        testing::set_seams(opts, std::move(seams));
     }
     try {
         return std::make_unique<Simulation>(scene, opts);

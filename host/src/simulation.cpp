@@ -8,6 +8,7 @@
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
 #include "multi/slab_driver.hpp"
+#include "clsph/testing.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -83,18 +84,16 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     }
     multi::DriverOptions dopt;
     dopt.coarse = options.coarse;
-    dopt.balance = options.balance;
+    const auto balance = balance::mode_from_string(options.balance);
+    if (!balance) throw Error("--balance: unknown mode '" + options.balance + "' (use dynamic, static or off)");
+    dopt.balance = *balance;
     dopt.balance_log = options.balance_log;
-    dopt.slowdown = options.slowdown;
-    dopt.serialize = options.serialize_devices;
     dopt.headroom = options.capacity_headroom;
-    dopt.cut_schedule = options.cut_schedule;
-    dopt.fail_at_step = options.fail_at_step;
-    dopt.fail_device = options.fail_device;
     using Mode = cl_rt::EventSet::Mode;
-    dopt.wait_mode = options.wait == WaitMode::poll    ? Mode::poll
-                     : options.wait == WaitMode::block ? Mode::block
-                                                       : Mode::callbacks;
+    dopt.wait = options.wait == WaitMode::poll    ? Mode::poll
+                : options.wait == WaitMode::block ? Mode::block
+                                                  : Mode::callbacks;
+    if (options.seams) dopt.seams = *options.seams;
     m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
     const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
     if (k.kick.bad_index >= 0) m.fail(k);

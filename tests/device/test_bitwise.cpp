@@ -5,6 +5,7 @@
 // so every cell lists its particles in the order one device would, and every neighbour sum adds
 // the same terms in the same order. CTest runs this suite with POCL_DEVICES="pthread pthread pthread".
 #include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
 #include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
@@ -110,7 +111,8 @@ TEST_CASE("bitwise identical while cuts sweep: narrow slabs, idle devices, parti
     auto sims = on_1_2_3(small_dam(0.146 / 8), [](std::size_t D) {
         Options o;
         if (D == 1) return o;
-        o.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
+        testing::Seams seams;
+        seams.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
             std::vector<std::size_t> c(D + 1, 0);
             c[D] = columns;
             for (std::size_t d = 1; d < D; ++d) {
@@ -120,6 +122,7 @@ TEST_CASE("bitwise identical while cuts sweep: narrow slabs, idle devices, parti
             std::sort(c.begin(), c.end());
             return c;
         };
+        testing::set_seams(o, seams);
         return o;
     });
     CHECK(first_difference(sims, 100) == -1);
@@ -131,11 +134,13 @@ TEST_CASE("bitwise identical with a narrow slab inside the fluid, particles arri
     auto sims = on_1_2_3(small_dam(0.146 / 8), [](std::size_t D) {
         Options o;
         if (D == 1) return o;
-        o.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
+        testing::Seams seams;
+        seams.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
             const std::size_t w = step % 2;
             if (D == 2) return std::vector<std::size_t>{0, 2 + w, columns};
             return std::vector<std::size_t>{0, 1 + w, 3 + w + step % 3 / 2, columns};
         };
+        testing::set_seams(o, seams);
         return o;
     });
     CHECK(first_difference(sims, 100) == -1);

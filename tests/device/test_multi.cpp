@@ -1,6 +1,7 @@
 // Several devices against one: the same particles, migration under stress, neighbours across a cut,
 // and the balancer on real devices.
 #include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
 #include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
@@ -112,12 +113,14 @@ TEST_CASE("devices going idle and back give the same particles as one device") {
     // first idle, then a split again.
     Options o;
     o.devices = spec_of(2);
-    o.cut_schedule = [](std::uint64_t step, std::size_t columns) {
+    testing::Seams seams;
+    seams.cut_schedule = [](std::uint64_t step, std::size_t columns) {
         if (step < 25) return std::vector<std::size_t>{0, columns, columns};
         if (step < 50) return std::vector<std::size_t>{0, columns / 2, columns};
         if (step < 75) return std::vector<std::size_t>{0, 0, columns};
         return std::vector<std::size_t>{0, columns / 3, columns};
     };
+    testing::set_seams(o, seams);
     Simulation sim(scene, o);
     for (int i = 0; i < 100; ++i) {
         sim.step();
@@ -143,7 +146,8 @@ TEST_CASE("migration under stress: cuts move every step") {
     const std::size_t D = std::min<std::size_t>(3, devs.size());
     // Cuts sweep back and forth across the domain, one or two columns a step, sometimes leaving a
     // device with a single column or none at all.
-    o.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
+    testing::Seams seams;
+    seams.cut_schedule = [D](std::uint64_t step, std::size_t columns) {
         std::vector<std::size_t> c(D + 1, 0);
         c[D] = columns;
         const std::size_t span = columns;
@@ -154,6 +158,7 @@ TEST_CASE("migration under stress: cuts move every step") {
         std::sort(c.begin(), c.end());
         return c;
     };
+    testing::set_seams(o, seams);
     Simulation sim(scene, o);
     const std::size_t n0 = sim.particles().size();
     const int steps = std::getenv("CLSPH_QUICK") ? 100 : 500;
@@ -229,8 +234,10 @@ TEST_CASE("a device slowed k times ends with about 1/k of the other's particles"
     scene.fluids.push_back(f);
     Options o;
     o.devices = spec_of(2);
-    o.slowdown = {k, 1};
-    o.serialize_devices = true;  // both devices share the CPU: time each force pass alone
+    testing::Seams seams;
+    seams.slowdown = {k, 1};
+    seams.serialize_devices = true;  // both devices share the CPU: time each force pass alone
+    testing::set_seams(o, seams);
     if (const char* log = std::getenv("CLSPH_BALANCE_LOG")) o.balance_log = log;
     Simulation sim(scene, o);
     std::vector<double> ratios;

@@ -433,17 +433,19 @@ TEST_CASE("exchange with overlap: arrivals around a sorted middle, edges sorted 
         ps.upload(held_p);
         d->fill(ps.scratch, kPoison, 4 * ps.capacity());
         CellPipeline cp(*d, grid);
-        cp.enqueue_sort(ps, n_held, 0, n_kept, n_held, column_key(lo), column_key(hi), false, S);
+        const KeyRange needed{column_key(lo), column_key(hi)};
+        cp.enqueue_sort_keys(ps, SortSelection{n_held, 0, n_kept, n_held, needed, false});
+        cp.enqueue_reorder(ps, n_held, S);
         d->fill(ps.id, kPoison, S);  // the room below must be filled by the arrivals
-        cp.begin_inbox(n_left + n_right);
-        d->write(cp.inbox_pos, a_pos.data(), a_pos.size());
-        d->write(cp.inbox_velrho, a_vel.data(), a_vel.size());
-        d->write(cp.inbox_accel, a_acc.data(), a_acc.size());
-        d->write(cp.inbox_id, a_id.data(), a_id.size());
-        cp.enqueue_unpack_inbox(ps, 0, n_left, 0);
-        cp.enqueue_unpack_inbox(ps, n_left, n_right, S + n_held);
-        cp.enqueue_edge_sort(ps, left, right, end, S + n_in_range, S + n_held, column_key(lo), column_key(hi),
-                             end - right - (n_held - n_in_range));
+        ParticleArrays inbox;
+        inbox.allocate(*d, n_left + n_right, "test inbox");
+        d->write(inbox.pos, a_pos.data(), a_pos.size());
+        d->write(inbox.velrho, a_vel.data(), a_vel.size());
+        d->write(inbox.accel, a_acc.data(), a_acc.size());
+        d->write(inbox.id, a_id.data(), a_id.size());
+        copy_particles(*d, inbox, 0, ps, 0, n_left);
+        copy_particles(*d, inbox, n_left, ps, S + n_held, n_right);
+        cp.enqueue_edge_sort(ps, EdgeSort{left, right, end, S + n_in_range, S + n_held, end - right - (n_held - n_in_range), needed});
         cp.enqueue_rekey(ps, valid);
         std::vector<float> pos(4 * valid), vel(4 * valid);
         std::vector<std::uint32_t> ids(valid), keys(valid);

@@ -11,6 +11,9 @@
 #include <vector>
 
 namespace clsph {
+namespace testing {
+struct Seams;
+}
 
 // How the host waits for the devices' work (several devices): sleeping on event callbacks where
 // the driver delivers them on time and polling the events' status elsewhere (the default),
@@ -26,16 +29,8 @@ struct Options {
     std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     WaitMode wait = WaitMode::callbacks;
-    std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
-    // Tests and diagnostics: run each device's force pass alone (wait for it before starting the
-    // next), so devices that share a CPU are timed without each other's load.
-    bool serialize_devices = false;
-    // Tests: a simulated device failure (CL_OUT_OF_RESOURCES from device `fail_device`) when step
-    // `fail_at_step` starts (0: never), to exercise the mid-run error path.
-    std::uint64_t fail_at_step = 0;
-    std::size_t fail_device = 0;
-    // Tests: cuts to force before each step (devices + 1 column indices), instead of the balancer's.
-    std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
+    // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
+    std::shared_ptr<const testing::Seams> seams;
 };
 
 struct DeviceShare {

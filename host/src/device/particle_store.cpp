@@ -15,10 +15,7 @@ ParticleStore::ParticleStore(cl_rt::Device& device, const Grid& grid, std::size_
 void ParticleStore::allocate(std::size_t cap) {
     auto& d = device_;
     const std::size_t f4 = sizeof(float) * 4, u = sizeof(std::uint32_t);
-    pos = d.alloc(cap * f4, "particle positions");
-    velrho = d.alloc(cap * f4, "particle velocity+density");
-    accel = d.alloc(cap * f4, "particle acceleration+drho/dt");
-    id = d.alloc(cap * u, "particle ids");
+    ParticleArrays::allocate(d, cap, "particles");
     keys = d.alloc((cap + 1) * u, "sort keys");
     vals = d.alloc((cap + 1) * u, "sort values / cell index");
     scratch = d.alloc(cap * f4, "reorder scratch");
@@ -30,17 +27,14 @@ bool ParticleStore::reserve(std::size_t n) {
     const std::size_t cap = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom_)) + 1;
     const std::size_t keep = ranges.active();
     // Grow one array at a time through the device, so the peak is old + one new array.
+    ParticleArrays::grow(device_, cap, keep, "particles");
+    // Keys and values too: a sort of the active particles may already be in them (several devices).
+    const std::size_t f4 = sizeof(float) * 4, u = sizeof(std::uint32_t);
     auto grow = [&](cl_rt::Buffer& b, std::size_t elem, std::size_t count, const char* what) {
         cl_rt::Buffer nb = device_.alloc(count * elem, what);
         device_.copy(b, nb, keep * elem);
         b = std::move(nb);
     };
-    const std::size_t f4 = sizeof(float) * 4, u = sizeof(std::uint32_t);
-    grow(pos, f4, cap, "particle positions");
-    grow(velrho, f4, cap, "particle velocity+density");
-    grow(accel, f4, cap, "particle acceleration+drho/dt");
-    grow(id, u, cap, "particle ids");
-    // Keys and values too: a sort of the active particles may already be in them (several devices).
     grow(keys, u, cap + 1, "sort keys");
     grow(vals, u, cap + 1, "sort values / cell index");
     scratch = cl_rt::Buffer();

@@ -1,8 +1,5 @@
-// The particles of one device in device memory, structure of arrays:
-//   pos     float4  offset from the cell centre (xyz) + cell key bits (w)   — see grid.hpp
-//   velrho  float4  velocity (xyz) + density (w)
-//   accel   float4  acceleration (xyz) + drho/dt (w) of the last force pass (the second kick needs it)
-//   id      uint    id (low 30 bits) + type (top 2 bits)
+// The particles of one device in device memory: the four particle arrays (particle_arrays.hpp)
+// plus what sorting them needs:
 //   keys, vals      sort keys and sort values / cell index per particle (capacity + 1 for the scan)
 //   scratch float4  the one rotating buffer through which arrays are reordered
 // Active particles occupy [0, active) in sorted order: ghosts of the device before, the owned
@@ -12,6 +9,7 @@
 #include "cl/device.hpp"
 #include "clsph/particles.hpp"
 #include "device/grid.hpp"
+#include "device/particle_arrays.hpp"
 
 #include <cstddef>
 
@@ -24,7 +22,7 @@ struct ParticleRanges {
     std::size_t end_owned() const { return ghosts_before + owned; }
 };
 
-class ParticleStore {
+class ParticleStore : public ParticleArrays {
 public:
     // headroom: extra capacity fraction kept when growing (so buffers do not grow every step).
     ParticleStore(cl_rt::Device& device, const Grid& grid, std::size_t capacity, double headroom = 0.25);
@@ -44,7 +42,7 @@ public:
     std::size_t capacity() const { return capacity_; }
     ParticleRanges ranges;
 
-    cl_rt::Buffer pos, velrho, accel, id, keys, vals, scratch;
+    cl_rt::Buffer keys, vals, scratch;
 
 private:
     void allocate(std::size_t capacity);

@@ -2,6 +2,7 @@
 // work-group size every kernel of a primitive accepts. Internal to host/src/device/primitives_*.
 #pragma once
 #include "cl/device.hpp"
+#include "cl/kernel_args.hpp"
 
 #include <cstddef>
 #include <functional>
@@ -13,11 +14,7 @@ namespace clsph::device {
 // n as a kernel's uint argument; throws clsph::Error when it does not fit (kernels index with uint).
 cl_uint as_uint(std::size_t n);
 
-template <class... Args>
-void set_args(cl::Kernel& kernel, const Args&... args) {
-    cl_uint i = 0;
-    (kernel.setArg(i++, args), ...);
-}
+using cl_rt::set_args;  // cl/kernel_args.hpp
 
 // Throws clsph::Error naming `what` when `buffer` holds fewer than `elements` uints.
 void require_elements(const std::string& what, const cl_rt::Buffer& buffer, std::size_t elements);

@@ -1,0 +1,31 @@
+// Seams for tests and benchmarks, not for applications: they make a run misbehave on purpose (a
+// slow device, a device that fails, cuts forced from outside) so the code that copes with it can
+// be checked. Set them on Options through clsph::testing::set_seams.
+#pragma once
+#include "clsph/simulation.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace clsph::testing {
+
+struct Seams {
+    // Repeat device d's force pass slowdown[d] times (a device k times slower; the calibration
+    // before the first step does not see it, as a device that becomes slow mid-run).
+    std::vector<int> slowdown;
+    // Run each device's force pass alone (wait for it before starting the next), so devices that
+    // share a CPU are timed without each other's load.
+    bool serialize_devices = false;
+    // A simulated device failure (CL_OUT_OF_RESOURCES from device `fail_device`) when step
+    // `fail_at_step` starts (0: never), to exercise the mid-run error path.
+    std::uint64_t fail_at_step = 0;
+    std::size_t fail_device = 0;
+    // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
+    std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
+};
+
+inline void set_seams(Options& options, Seams seams) { options.seams = std::make_shared<const Seams>(std::move(seams)); }
+
+}  // namespace clsph::testing

@@ -1,0 +1,251 @@
+#include "multi/exchange.hpp"
+
+#include <algorithm>
+
+namespace clsph::multi {
+
+Exchange::Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
+                   cl_rt::EventSet::Mode wait, PhaseTotals& phases)
+    : partition_(partition), slabs_(slabs), for_each_device_(std::move(for_each_device)), wait_(wait), phases_(phases) {}
+
+Link& Exchange::link(std::size_t from, std::size_t to) {
+    auto& l = links_[{from, to}];
+    if (!l) l = std::make_unique<StagedLink>(*slabs_[from].device, *slabs_[to].device);
+    return *l;
+}
+
+std::size_t Exchange::sort_uploaded() {
+    const std::uint32_t invalid = partition_.grid().params().invalid_key;
+    std::size_t removed = 0;
+    for (auto& s : slabs_) {
+        auto& ps = *s.store;
+        const std::size_t n = ps.ranges.active();
+        std::vector<std::uint32_t> thresholds;
+        for (std::size_t c = s.first_col; slabs_.size() > 1 && !s.empty() && c <= s.end_col; ++c)
+            thresholds.push_back(partition_.column_key(c));
+        thresholds.push_back(invalid);
+        const auto at = s.cells->sort_particles(ps, n, 0, n, thresholds);
+        removed += n - at.back();
+        ps.ranges = device::ParticleRanges{0, at.back(), 0};
+        s.column_at.assign(at.begin(), at.end() - 1);
+        s.columns_first = s.first_col;
+        s.columns_end = s.end_col;
+        if (s.empty() || !s.columns_known()) s.column_at.clear();
+    }
+    return removed;
+}
+
+std::size_t Exchange::run(const PerDevice& then) {
+    const std::size_t D = slabs_.size();
+    need_ = partition_.needs(slabs_);
+    std::vector<Block> blocks;
+    std::vector<char> presorted(D, 0);
+    settle_and_gather(false, blocks, presorted);
+    std::size_t removed = 0, jumped = 0;
+    for (const auto& s : slabs_) {
+        removed += s.cells->settled().left_domain;
+        jumped += s.cells->settled().jumped;
+    }
+    if (jumped > 0 && D > 1) {  // the windows may miss a particle: send from whole slabs
+        blocks.clear();
+        std::fill(presorted.begin(), presorted.end(), 0);
+        settle_and_gather(true, blocks, presorted);
+    }
+    std::vector<std::size_t> from_left(D, 0), from_right(D, 0);
+    for (const auto& b : blocks) {
+        (b.d < b.e ? from_left : from_right)[b.e] += slabs_[b.d].cells->gather_count(b.index);
+        link(b.d, b.e);  // made here, not on the device threads
+    }
+    std::vector<Plan> plans(D);
+    for (std::size_t e = 0; e < D; ++e) plans[e] = plan(e, presorted[e], from_left[e], from_right[e]);
+    send(blocks, plans);
+    {
+        PhaseTimer t(phases_, "exchange: receive, merge and tables");
+        for_each_device_([&](std::size_t e) { receive_and_merge(e, blocks, plans[e], then); });
+    }
+    return removed;
+}
+
+void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted) {
+    PhaseTimer t(phases_, "exchange: settle and gather");
+    const std::size_t D = slabs_.size();
+    cl_rt::EventSet gathered;
+    std::vector<std::vector<Block>> sent(D);
+    for_each_device_([&](std::size_t d) {
+        Slab& s = slabs_[d];
+        auto& ps = *s.store;
+        if (!wide) s.cells->enqueue_settle(ps, partition_.keys_of(need_[d]), gathered);
+        // What each other device needs from this one lies in a window: one column wider on either
+        // side than its columns, within what this device owned (or, `wide`, all of that).
+        struct Window { std::size_t e, first, end; };
+        std::vector<Window> windows;
+        std::size_t total = 0;
+        for (std::size_t e = 0; e < D; ++e) {
+            if (e == d || need_[e].empty()) continue;
+            std::size_t first = ps.ranges.first_owned(), end = ps.ranges.end_owned();
+            if (!wide) {
+                if (!s.columns_known()) continue;
+                const std::size_t c0 = std::max(need_[e].lo > 0 ? need_[e].lo - 1 : 0, s.columns_first);
+                const std::size_t c1 = std::min(need_[e].hi + 1, s.columns_end);
+                if (c1 <= c0) continue;
+                first = s.column_at[c0 - s.columns_first];
+                end = s.column_at[c1 - s.columns_first];
+            }
+            if (end > first) {
+                windows.push_back({e, first, end});
+                total += end - first;
+            }
+        }
+        if (s.outbox.capacity() < total || !s.outbox.id) s.outbox.allocate(*s.device, total + total / 4 + 1024, "exchange outbox");
+        s.cells->begin_gathers(windows.size());
+        std::size_t base = 0;
+        for (std::size_t k = 0; k < windows.size(); ++k) {
+            const auto& w = windows[k];
+            s.cells->enqueue_gather(ps, w.first, w.end, partition_.keys_of(need_[w.e]), s.outbox, base, k, gathered);
+            sent[d].push_back({d, w.e, k, base});
+            base += w.end - w.first;
+        }
+        // The keys of what this device keeps sort now, so the counts' round trip runs beside it;
+        // only moving the particles into that order waits for the counts (it needs the room for
+        // the left arrivals).
+        presorted[d] = !wide && !s.empty() && ps.ranges.active() > 0;
+        if (presorted[d])
+            s.cells->enqueue_sort_keys(ps, device::SortSelection{ps.ranges.active(), ps.ranges.first_owned(),
+                                                                 ps.ranges.end_owned(), ps.ranges.active(),
+                                                                 partition_.keys_of(need_[d]), false});
+        s.device->flush();
+    });
+    for (const auto& v : sent) blocks.insert(blocks.end(), v.begin(), v.end());
+    gathered.wait("gathering particles for the neighbouring devices", wait_);
+}
+
+Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right) const {
+    const Slab& s = slabs_[e];
+    const auto& ps = *s.store;
+    Plan p;
+    p.held = ps.ranges.active();  // sorted as a whole; ghosts and leavers drop to its end
+    p.kept = s.cells->settled().kept;  // of which stay (their keys lie in this device's need)
+    p.from_left = from_left;
+    p.from_right = from_right;
+    const std::size_t n = from_left + from_right;
+    if (n == 0 && (p.kept == 0 || presorted)) {
+        p.merge = p.kept == 0 ? Merge::empty : Merge::kept_only;
+        return p;
+    }
+    p.merge = Merge::all;
+    // Kept particles that now lie below column first_old + 1 were, before the drift, below
+    // first_old + 2 (CFL: at most one column per step, checked by the settle), so the last
+    // exchange's column positions bound the left edge; likewise the right. A slab too narrow for
+    // the bounds to leave a middle sorts everything once the arrivals are in.
+    if (!presorted || p.kept == 0 || !s.columns_known() || s.columns_end - s.columns_first < 4) return p;
+    const std::size_t last = s.columns_end - s.columns_first;
+    const std::size_t x = std::min<std::size_t>(p.kept, s.column_at[2] - s.column_at[0]);
+    const std::size_t y = std::min<std::size_t>(p.kept, s.column_at[last] - s.column_at[last - 2]);
+    p.left = from_left + x;
+    p.right = from_left + p.kept - y;
+    p.end = from_left + p.held + from_right;
+    // The edges go through the reorder scratch, four arrays side by side.
+    const std::size_t m = p.left + (p.end - p.right);
+    if (p.left < p.right && device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float))
+        p.merge = Merge::edges;
+    return p;
+}
+
+void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& plans) {
+    PhaseTimer t(phases_, "exchange: send beside the kept sort");
+    cl_rt::EventSet sent;
+    for_each_device_([&](std::size_t d) {
+        Slab& s = slabs_[d];
+        for (const auto& b : blocks)
+            if (b.d == d) links_.at({d, b.e})->send(s.outbox, b.base, s.cells->gather_count(b.index), sent);
+        s.device->transfer_queue().flush();
+        const Plan& p = plans[d];
+        if (p.merge == Merge::edges || p.merge == Merge::kept_only) {
+            s.store->reserve(p.from_left + p.held + p.from_right);  // keeps the sorted keys
+            s.cells->enqueue_reorder(*s.store, p.held, p.from_left);
+            s.device->flush();
+        }
+    });
+    sent.wait("sending particles to the neighbouring devices", wait_);
+}
+
+void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then) {
+    Slab& s = slabs_[e];
+    auto& ps = *s.store;
+    auto& dev = *s.device;
+    const std::size_t n = p.from_left + p.from_right;
+    if (s.inbox.capacity() < n || !s.inbox.id) s.inbox.allocate(dev, n + n / 4 + 1024, "exchange inbox");
+    // Arrivals into the inbox on the transfer queue: left senders first, then right ones. (On its
+    // own host thread: a write from memory pinned in another device's context may hold the thread
+    // until it is done, on NVIDIA.)
+    cl_rt::EventSet written;
+    std::size_t to = 0;
+    for (bool left : {true, false})
+        for (const auto& b : blocks) {
+            if (b.e != e || (b.d < b.e) != left) continue;
+            Link& l = *links_.at({b.d, e});
+            l.receive(s.inbox, to, written);
+            to += l.count();
+            s.received_bytes += l.count() * device::ParticleArrays::kBytesPerParticle;
+        }
+    dev.barrier(written);
+    const device::KeyRange keys = partition_.keys_of(need_[e]);
+    std::size_t valid = 0;
+    switch (p.merge) {
+    case Merge::empty: break;
+    case Merge::kept_only: valid = p.kept; break;
+    case Merge::edges:
+        // [left arrivals | kept, sorted | dropped | right arrivals], then the two edges.
+        device::copy_particles(dev, s.inbox, 0, ps, 0, p.from_left);
+        device::copy_particles(dev, s.inbox, p.from_left, ps, p.from_left + p.held, p.from_right);
+        s.cells->enqueue_edge_sort(ps, device::EdgeSort{p.left, p.right, p.end, p.from_left + p.kept, p.from_left + p.held,
+                                                        p.end - p.right - (p.held - p.kept), keys});
+        valid = p.kept + n;
+        s.cells->enqueue_rekey(ps, valid);
+        break;
+    case Merge::all:
+        // [everything held | arrivals], one sort in the order [left arrivals | held | right arrivals].
+        ps.reserve(p.held + n);
+        device::copy_particles(dev, s.inbox, 0, ps, p.held, n);
+        s.cells->enqueue_sort_with_arrivals(ps, p.held, p.from_left, p.from_right, ps.ranges.first_owned(),
+                                            ps.ranges.end_owned(), keys);
+        valid = p.kept + n;
+        break;
+    }
+    // The cell count and, with several devices, the column positions: this device's own round
+    // trip, waited for on its own thread, which then enqueues the rest of the tables at once.
+    const bool several = slabs_.size() > 1;
+    cl_rt::EventSet counted;
+    for (auto& ev : written.events_of(dev)) counted.add(dev, ev);
+    ps.ranges = device::ParticleRanges{0, valid, 0};
+    s.cells->enqueue_count_cells(ps, valid, counted);
+    if (several) enqueue_column_positions(s, valid, counted);
+    counted.wait("sorting particles after the exchange", wait_);
+    if (several) {
+        const auto& l = s.cells->located();
+        ps.ranges = s.empty() || l.size() < 2 ? device::ParticleRanges{0, 0, 0}
+                                              : device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
+        remember_columns(s);
+    }
+    s.cells->finish_tables(ps, ps.ranges.active());
+    then(e);
+}
+
+void Exchange::enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const {
+    std::vector<std::uint32_t> cols;
+    for (std::size_t c = s.first_col; c <= s.end_col && !s.empty(); ++c) cols.push_back(partition_.column_key(c));
+    s.cells->enqueue_locate(*s.store, n, cols, done);
+}
+
+void Exchange::remember_columns(Slab& s) {
+    const auto& at = s.cells->located();
+    s.column_at.assign(at.begin(), at.end());
+    s.columns_first = s.first_col;
+    s.columns_end = s.end_col;
+    if (s.empty() || !s.columns_known()) {
+        s.column_at.clear();
+        s.columns_first = s.columns_end = 0;
+    }
+}
+
+}  // namespace clsph::multi

@@ -1,0 +1,74 @@
+// The exchange between slabs, after the drift: afterwards every device holds [ghosts | owned |
+// ghosts] in sorted order, its cell tables are enqueued, and then(d) has run on its host thread.
+//
+// Particles move less than a column per step (CFL), so what device e needs from device d (d's
+// particles now in e's columns) was, before the drift, within one column of them: a window of d's
+// still-sorted particles, known from the last exchange's column positions. Per step:
+//   1. settle and gather   each device settles its drifted particles into cells (keys in pos.w)
+//                          and packs each window's particles that the receiver needs into its
+//                          outbox; it also starts sorting the keys of what it keeps
+//   2. send                outboxes leave through the Links (transfer queues) while the kept
+//                          particles move into sorted order, leaving room below for the arrivals
+//                          from the left and above for those from the right
+//   3. receive and merge   arrivals land around the kept particles; only the edges, where they
+//                          meet, are sorted; then the cell tables
+// Every device's sort input is [left arrivals | kept, in their previous order | right arrivals]:
+// a subsequence of what one device would sort, so with a stable sort each cell lists its
+// particles in the order one device would, and results do not depend on the device count.
+// One device is the same path with no windows. A slab too narrow for its edges sorts everything
+// it holds with the arrivals (in the same canonical order); a particle that jumped more than a
+// column (which the CFL limit rules out) makes every device send from its whole slab instead.
+#pragma once
+#include "cl/async.hpp"
+#include "multi/link.hpp"
+#include "multi/partition.hpp"
+#include "multi/phase_timer.hpp"
+#include "multi/slab.hpp"
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace clsph::multi {
+
+using PerDevice = std::function<void(std::size_t)>;
+// Runs work(d) for every device, each on its own host thread where that helps.
+using ForEachDevice = std::function<void(const PerDevice&)>;
+
+class Exchange {
+public:
+    Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
+             cl_rt::EventSet::Mode wait, PhaseTotals& phases);
+    // Once, after the first upload: each device sorts what it was given and finds its column
+    // positions. Returns the particles removed (outside the domain).
+    std::size_t sort_uploaded();
+    // One exchange (see above); returns the particles removed (they left the domain).
+    std::size_t run(const PerDevice& then);
+
+private:
+    struct Block { std::size_t d, e, index, base; };  // sender, receiver, gather block, outbox offset
+    enum class Merge { empty, kept_only, edges, all };
+    struct Plan {
+        Merge merge = Merge::all;
+        std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
+    };
+    void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted);
+    Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right) const;
+    void send(const std::vector<Block>& blocks, const std::vector<Plan>& plans);
+    void receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then);
+    void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
+    static void remember_columns(Slab& s);
+    Link& link(std::size_t from, std::size_t to);
+
+    const Partition& partition_;
+    std::vector<Slab>& slabs_;
+    ForEachDevice for_each_device_;
+    cl_rt::EventSet::Mode wait_;
+    PhaseTotals& phases_;
+    std::vector<Need> need_;
+    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
+};
+
+}  // namespace clsph::multi
