@@ -41,4 +41,46 @@ typedef struct {
 #define STATE_STORE(st, i) \
     rho_out[i] = !(st).fluid ? (st).rho : ((st).vw < 0.95f ? fmax((st).mw, sp.rho0) : (st).mw)
 
+#ifdef CLSPH_LANES
+// The CPU form (neighbour_loop.h, lanes): the same sums for CLSPH_LANES particles of one cell.
+#include "lanes.h"
+
+typedef struct {
+    floatV mw, vw, rho;
+    intV fluid;
+} DensityLanes;
+
+#define LANES_T DensityLanes
+#define LANES_INIT(st, base, count)                                              \
+    do {                                                                         \
+        float trho[VW];                                                          \
+        int tfluid[VW];                                                          \
+        for (uint l = 0; l < VW; ++l) {                                          \
+            const uint i_ = (base) + min(l, (count) - 1u);                       \
+            trho[l] = velrho[i_].w;                                              \
+            tfluid[l] = (ids[i_] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? -1 : 0; \
+        }                                                                        \
+        (st).rho = vloadV(0, trho);                                              \
+        (st).fluid = vloadV(0, tfluid);                                          \
+        (st).mw = (st).vw = (floatV)(0.0f);                                      \
+    } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit)                                             \
+    do {                                                                                   \
+        const floatV w = select((floatV)(0.0f), kernel_w_lanes(&sp, sqrt(r2)), hit);       \
+        (st).mw += sp.mass * w;                                                            \
+        (st).vw += (sp.mass / velrho[j].w) * w;                                            \
+    } while (0)
+#define LANES_STORE(st, base, count)                                                       \
+    do {                                                                                   \
+        float tmw[VW], tvw[VW], trho[VW];                                                  \
+        int tfluid[VW];                                                                    \
+        vstoreV((st).mw, 0, tmw);                                                          \
+        vstoreV((st).vw, 0, tvw);                                                          \
+        vstoreV((st).rho, 0, trho);                                                        \
+        vstoreV((st).fluid, 0, tfluid);                                                    \
+        for (uint l = 0; l < (count); ++l)                                                 \
+            rho_out[(base) + l] = !tfluid[l] ? trho[l] : (tvw[l] < 0.95f ? fmax(tmw[l], sp.rho0) : tmw[l]); \
+    } while (0)
+#endif
+
 #include "neighbour_loop.h"

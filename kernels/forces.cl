@@ -92,4 +92,88 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
         accel[i] = out;                                                                         \
     } while (0)
 
+#ifdef CLSPH_LANES
+// The CPU form (neighbour_loop.h, lanes): force_pair for CLSPH_LANES particles i of one cell at
+// once against one neighbour j. Lanes without a hit (and i itself) get F = 0, which zeroes every
+// term (each is proportional to F); boundary lanes' accelerations are summed and never stored.
+#include "lanes.h"
+
+typedef struct {
+    floatV vx, vy, vz, rho, p;
+    intV fluid;  // -1 in fluid lanes
+    floatV ax, ay, az, drho;
+} ForceLanes;
+
+inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, const uint id_j, const floatV rx,
+                        const floatV ry, const floatV rz, const floatV r2, const intV hit) {
+    const bool fluid_j = (id_j >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
+    const floatV r = sqrt(r2);
+    const floatV mf = select((floatV)(0.0f), sp->mass * kernel_f_lanes(sp, r), hit & (r2 > 1e-18f));
+    const floatV vx = st->vx - vr_j.x, vy = st->vy - vr_j.y, vz = st->vz - vr_j.z;
+    const floatV vd = -(vx * rx + vy * ry + vz * rz);  // v_ij . (x_i - x_j)
+    const float rho_j = vr_j.w;
+#ifndef CLSPH_SUMMATION
+    st->drho += mf * vd;
+#else
+    st->drho += select(mf * vd, (floatV)(0.0f), st->fluid);
+#endif
+#if CLSPH_DIFFUSION == 1
+    st->drho += (sp->diffusion * 2.0f / rho_j) * (rho_j - st->rho) * (-mf);
+#elif CLSPH_DIFFUSION == 2
+    if (fluid_j) {
+        const floatV rho_h = sp->hydro * (sp->gx * rx + sp->gy * ry + sp->gz * rz);
+        st->drho += select((floatV)(0.0f), (sp->diffusion * 2.0f / rho_j) * (rho_j - st->rho - rho_h) * (-mf), st->fluid);
+    }
+#endif
+    const float p_j = pressure_of(sp, rho_j);
+    floatV coef = (st->p + p_j) / (st->rho * rho_j);
+    if (fluid_j) {
+        const floatV mu = sp->h * vd / (r2 + sp->eta2);
+        coef += select((floatV)(0.0f), (-sp->visc_alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
+    }
+    const floatV s = mf * coef;  // a_i += -m coef F (x_i - x_j) = m coef F rij
+    st->ax += s * rx;
+    st->ay += s * ry;
+    st->az += s * rz;
+}
+
+#define LANES_T ForceLanes
+#define LANES_INIT(st, base, count)                                              \
+    do {                                                                         \
+        float tvx[VW], tvy[VW], tvz[VW], trho[VW], tp[VW];                       \
+        int tfluid[VW];                                                          \
+        for (uint l = 0; l < VW; ++l) {                                          \
+            const uint i_ = (base) + min(l, (count) - 1u);                       \
+            const float4 vr = velrho[i_];                                        \
+            tvx[l] = vr.x;                                                       \
+            tvy[l] = vr.y;                                                       \
+            tvz[l] = vr.z;                                                       \
+            trho[l] = vr.w;                                                      \
+            tp[l] = pressure_of(&sp, vr.w);                                      \
+            tfluid[l] = (ids[i_] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? -1 : 0; \
+        }                                                                        \
+        (st).vx = vloadV(0, tvx);                                                \
+        (st).vy = vloadV(0, tvy);                                                \
+        (st).vz = vloadV(0, tvz);                                                \
+        (st).rho = vloadV(0, trho);                                              \
+        (st).p = vloadV(0, tp);                                                  \
+        (st).fluid = vloadV(0, tfluid);                                          \
+        (st).ax = (st).ay = (st).az = (st).drho = (floatV)(0.0f);                \
+    } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit)
+#define LANES_STORE(st, base, count)                                                        \
+    do {                                                                                    \
+        float tax[VW], tay[VW], taz[VW], tdrho[VW];                                         \
+        int tfluid[VW];                                                                     \
+        vstoreV((st).ax, 0, tax);                                                           \
+        vstoreV((st).ay, 0, tay);                                                           \
+        vstoreV((st).az, 0, taz);                                                           \
+        vstoreV((st).drho, 0, tdrho);                                                       \
+        vstoreV((st).fluid, 0, tfluid);                                                     \
+        for (uint l = 0; l < (count); ++l)                                                  \
+            accel[(base) + l] = tfluid[l] ? (float4)(tax[l] + sp.gx, tay[l] + sp.gy, taz[l] + sp.gz, tdrho[l]) \
+                                          : (float4)(0.0f, 0.0f, 0.0f, tdrho[l]);           \
+    } while (0)
+#endif
+
 #include "neighbour_loop.h"

@@ -1,7 +1,9 @@
 // The neighbour iteration every interaction kernel uses, written once. An interaction file defines
 // what it needs from each neighbour and what it does with a pair, then includes this header, which
-// defines the kernel INTERACTION_NAME in one of two schemes (selected with -DCLSPH_COARSE):
+// defines the kernel INTERACTION_NAME in one of four schemes (-DCLSPH_MASKED, -DCLSPH_LANES, -DCLSPH_COARSE):
 //   fine   (default): a work-item per particle walks its cell's 9 neighbour rows in global memory;
+//   masked          : as fine, distances of 32 candidates first, then the pairs of the hits only;
+//   lanes (CPU form): a work-item per cell, its particles in vector lanes (-DCLSPH_LANES=8|16);
 //   coarse          : a work-group per cell stages each neighbour row in local memory in tiles of
 //                     WG particles, and each work-item computes one particle of the cell.
 //
@@ -20,7 +22,153 @@
 // Particles [first, last) are computed; neighbours come from all of [0, n_active) (ghosts included).
 #include "grid.h"
 
-#ifndef CLSPH_COARSE
+#if defined(CLSPH_MASKED)
+
+// masked: a work-item per particle, as fine, but each neighbour row is taken in batches of 32
+// candidates: first only the distances, into a bit mask, then the pair terms for the set bits alone.
+// On a GPU the lanes of a warp walk the same candidates (they sit in one cell), and in the fine
+// scheme the whole warp runs the pair arithmetic whenever any lane has a hit (with cells of edge 2h
+// about 16 % of candidates hit, but almost every candidate hits some lane of 32); here it runs it as
+// often as the lane with the most hits in the batch. Hits are taken lowest bit first: the sum runs
+// over j in increasing order, the same order as fine.
+#ifndef CLSPH_BATCH
+#define CLSPH_BATCH 32
+#endif
+
+__kernel void INTERACTION_NAME(const uint first, const uint last, const GridParams g, const float support2,
+                               __global const float4* pos, __global const uint* cell_of,
+                               __global const uint2* ranges INTERACTION_ARGS) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last) return;
+    NEIGHBOUR_T self;
+    self.pos = pos[i];
+    LOAD_NEIGHBOUR(self, i);
+    const uint key_i = pos_key(self.pos);
+    STATE_T st;
+    STATE_INIT(st, i, self);
+    const uint c = cell_of[i];
+    const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
+    const uint b_i = key_b(g, key_i);
+    for (uint r = 0; r < 9u; ++r) {
+        const uint2 range = ranges[c * 9u + r];
+        if (range.x >= range.y) continue;
+        const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+        int a2 = a_i + da;
+        if (a2 < 0) a2 += (int)g.n_a;
+        if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+        const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
+        float3 row_offset = -self.pos.xyz;
+        COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
+        COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
+        const uint row_last = range.y - 1u;
+        for (uint base = range.x; base < range.y; base += CLSPH_BATCH) {
+#if CLSPH_BATCH == 64
+            ulong mask = 0;
+#else
+            uint mask = 0;
+#endif
+            // A fixed trip count, so the compiler unrolls it; candidates past the row's end load
+            // its last particle (always valid) and never set their bit.
+            for (uint t = 0; t < CLSPH_BATCH; ++t) {
+                const uint j = min(base + t, row_last);
+                const float4 pj = pos[j];
+                float3 rij = pj.xyz + row_offset;
+                COMP(rij, AXIS_B) += (float)((int)(pos_key(pj) - centre)) * g.cell_b;
+                const float r2 = dot(rij, rij);
+#if CLSPH_BATCH == 64
+                mask |= (ulong)(r2 < support2 && base + t < range.y) << t;
+#else
+                mask |= (uint)(r2 < support2 && base + t < range.y) << t;
+#endif
+            }
+            while (mask != 0) {
+                const uint t = (uint)(8 * sizeof(mask) - 1) - (uint)clz(mask & (~mask + 1));  // lowest set bit
+                mask &= mask - 1;
+                const uint j = base + t;
+                NEIGHBOUR_T nb;
+                nb.pos = pos[j];
+                float3 rij = nb.pos.xyz + row_offset;
+                COMP(rij, AXIS_B) += (float)((int)(pos_key(nb.pos) - centre)) * g.cell_b;
+                const float r2 = dot(rij, rij);
+                LOAD_NEIGHBOUR(nb, j);
+                PAIR(st, self, nb, i, j, rij, r2);
+            }
+        }
+    }
+    STATE_STORE(st, i);
+}
+
+#elif defined(CLSPH_LANES)
+
+// lanes (the CPU form): a work-item per non-empty cell (launched with work-groups of one), the
+// cell's particles CLSPH_LANES at a time in the lanes of vector types (lanes.h). Every lane is in
+// the same cell, so a candidate's offset from the cell row is one scalar computation, its data are
+// scalar loads, and only the distance and the pair terms are vectors. CPU OpenCL compilers do not
+// vectorise the fine scheme (pocl: "loop control flow is not understood by vectorizer": each
+// work-item's candidate loop has its own trip count), so they run it one particle at a time.
+// The interaction file defines, besides the scalar interface above:
+//   LANES_T                          the lanes' state (vectors of floatV / intV)
+//   LANES_INIT(st, base, count)      statement: lanes l < count from particles base + l, the others
+//                                    copies of the last (computed, never stored)
+//   LANES_PAIR(st, j, rx, ry, rz, r2, hit)  statement: rij = x_j - x_i per lane, hit = r2 < support2
+//   LANES_STORE(st, base, count)     statement
+// Sums run over j in increasing order for every lane, as in the fine scheme.
+#include "lanes.h"
+
+__kernel void INTERACTION_NAME(const uint first, const uint last, const GridParams g, const float support2,
+                               __global const float4* pos, __global const uint* cell_start,
+                               __global const uint2* ranges INTERACTION_ARGS) {
+    const uint c = get_global_id(0);
+    const uint begin = max(cell_start[c], first), end = min(cell_start[c + 1u], last);
+    if (begin >= end) return;
+    const uint key_c = pos_key(pos[begin]);
+    const int s_c = (int)key_s(g, key_c), a_c = (int)key_a(g, key_c);
+    const uint b_c = key_b(g, key_c);
+    for (uint base = begin; base < end; base += VW) {
+        const uint count = min((uint)VW, end - base);
+        floatV px, py, pz;
+        {
+            float tx[VW], ty[VW], tz[VW];
+            for (uint l = 0; l < VW; ++l) {
+                const float4 p = pos[base + min(l, count - 1u)];
+                tx[l] = p.x;
+                ty[l] = p.y;
+                tz[l] = p.z;
+            }
+            px = vloadV(0, tx);
+            py = vloadV(0, ty);
+            pz = vloadV(0, tz);
+        }
+        LANES_T st;
+        LANES_INIT(st, base, count);
+        for (uint r = 0; r < 9u; ++r) {
+            const uint2 range = ranges[c * 9u + r];
+            if (range.x >= range.y) continue;
+            const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+            int a2 = a_c + da;
+            if (a2 < 0) a2 += (int)g.n_a;
+            if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+            const uint centre = make_key(g, (uint)(s_c + ds), (uint)a2, b_c);
+            float3 row_delta = (float3)(0.0f);
+            COMP(row_delta, AXIS_S) = (float)ds * g.cell_s;
+            COMP(row_delta, AXIS_A) = (float)da * g.cell_a;
+            for (uint j = range.x; j < range.y; ++j) {
+                const float4 pj = pos[j];
+                float3 d = pj.xyz + row_delta;  // x_j relative to the centre of cell c
+                COMP(d, AXIS_B) += (float)((int)(pos_key(pj) - centre)) * g.cell_b;
+                const floatV rx = d.x - px, ry = d.y - py, rz = d.z - pz;
+                const floatV r2 = rx * rx + ry * ry + rz * rz;
+                const intV hit = r2 < support2;
+                if (any(hit)) {
+                    LANES_PAIR(st, j, rx, ry, rz, r2, hit);
+                }
+            }
+        }
+        LANES_STORE(st, base, count);
+    }
+}
+
+#elif !defined(CLSPH_COARSE)
 
 __kernel void INTERACTION_NAME(const uint first, const uint last, const GridParams g, const float support2,
                                __global const float4* pos, __global const uint* cell_of,

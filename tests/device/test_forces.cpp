@@ -135,10 +135,10 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs)
-            for (bool coarse : {false, true}) {
+            for (const Interaction form : interaction_forms()) {
                 CAPTURE(static_cast<int>(c.diffusion));
                 CAPTURE(c.alpha);
-                CAPTURE(coarse);
+                CAPTURE(interaction_name(form));
                 CAPTURE(static_cast<int>(c.density));
                 Scene s;
                 s.physics.dp = 0.01;
@@ -156,7 +156,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 ParticleStore ps(*d, grid, in.size());
                 ps.upload(in);
                 CellPipeline cells(*d, grid);
-                Physics phys(*d, grid, s, coarse);
+                Physics phys(*d, grid, s, form);
                 cells.run(ps);
                 const Particles before = ps.download();  // sorted order, float-rounded values
                 d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison

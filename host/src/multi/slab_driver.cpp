@@ -81,7 +81,7 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
             static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + options.headroom));
         s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options.headroom);
         s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
-        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.coarse);
+        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.interaction);
         if (D > 1) s.device->profiler().enable(true);  // the balancer needs each force pass's time
     }
     // Devices of different speeds must not start from an equal split (a CPU next to a GPU would

@@ -36,7 +36,7 @@
 namespace clsph::multi {
 
 struct DriverOptions {
-    bool coarse = false;
+    Interaction interaction = Interaction::automatic;
     std::string balance = "dynamic";  // dynamic | static | off
     std::string balance_log;          // CSV path, empty: none
     std::vector<int> slowdown;        // tests: repeat device d's force pass slowdown[d] times
