@@ -44,7 +44,7 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--interaction", a.interaction,
                    "interaction form on every device: auto (masked on GPUs, lanes on CPUs), fine, masked, lanes, coarse "
                    "(default: the scene's run.interaction)")
-        ->check(CLI::IsMember({"auto", "fine", "masked", "lanes", "coarse"}))
+        ->check(CLI::IsMember({"auto", "fine", "masked", "tiled", "lanes", "coarse"}))
         ->type_name("NAME");
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))

@@ -8,8 +8,10 @@
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
+#include "device/primitives.hpp"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace clsph::device {
@@ -58,6 +60,10 @@ private:
     bool summation_;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
+    // The tiled form's work list: chunks of at most 32 particles per cell (kernels/interaction_chunks.cl).
+    cl::Kernel chunk_k_;
+    std::unique_ptr<Scan> chunk_scan_;
+    cl_rt::Buffer chunk_counts_, chunk_start_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;
