@@ -64,12 +64,13 @@ int main(int argc, char** argv) {
     CLI::App app{"clsph SPHERIC-2 benchmark"};
     std::string devices;
     double dp = 0.006, until = 0.1;
-    bool coarse = false;
+    std::string interaction = "auto";
     std::string balance = "dynamic", balance_log, trace;
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
-    app.add_flag("--coarse", coarse, "coarse-grained interaction kernel");
+    app.add_option("--interaction", interaction, "interaction form: auto | fine | masked | lanes | coarse")
+        ->check(CLI::IsMember({"auto", "fine", "masked", "tiled", "lanes", "coarse"}));
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
     app.add_option("--trace", trace, "CSV of every command's device start and end (ns) in the timed window, and a "
@@ -82,7 +83,7 @@ int main(int argc, char** argv) {
         clsph::Options opts;
         opts.devices = devices;
         opts.profile = true;
-        opts.coarse = coarse;
+        opts.interaction = clsph::interaction_from_name(interaction);
         opts.balance = balance;
         opts.balance_log = balance_log;
         opts.trace = !trace.empty();
@@ -91,9 +92,10 @@ int main(int argc, char** argv) {
         const auto p = sim.particles();
         std::size_t fluid = 0;
         for (auto t : p.type) fluid += t == clsph::ParticleType::fluid;
-        std::printf("## SPHERIC-2, dp = %g m, %s iteration (%s)\n\n", dp, coarse ? "coarse" : "fine",
+        std::printf("## SPHERIC-2, dp = %g m, interaction %s (%s)\n\n", dp, interaction.c_str(),
                     clsph::bench::today().c_str());
-        for (const auto& n : sim.device_names()) std::printf("device: %s\n", n.c_str());
+        for (const auto& sh : sim.shares())
+            std::printf("device: %s, interaction form %s\n", sh.device.c_str(), clsph::interaction_name(sh.interaction));
         std::printf("particles: %zu (boundary %zu, fluid %zu); reference at dp 0.006: 4,989,696 (1,975,146 + 3,014,550)\n",
                     p.size(), p.size() - fluid, fluid);
         std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);

@@ -32,13 +32,61 @@ typedef struct {
         (st).rho = (self).rho;                                               \
         (st).fluid = (ids[i] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;       \
     } while (0)
-#define PAIR(st, self, nb, i, j, rij, r2)                     \
-    do {                                                      \
-        const float w = kernel_w(&sp, sqrt(r2));              \
-        (st).mw += sp.mass * w;                               \
-        (st).vw += sp.mass / (nb).rho * w;                    \
+// (m W, m / rho_j W): the density and the kernel's completeness.
+inline float4 density_terms(const SphParams* sp, const float rho_j, const float r2) {
+    const float w = kernel_w(sp, sqrt(r2));
+    return (float4)(sp->mass * w, sp->mass / rho_j * w, 0.0f, 0.0f);
+}
+#define TERMS(self, nb, rij, r2) density_terms(&sp, (nb).rho, (r2))
+#define STATE_ADD(st, t)   \
+    do {                   \
+        (st).mw += (t).x;  \
+        (st).vw += (t).y;  \
     } while (0)
+#define PAIR(st, self, nb, i, j, rij, r2) STATE_ADD(st, TERMS(self, nb, rij, r2))
 #define STATE_STORE(st, i) \
     rho_out[i] = !(st).fluid ? (st).rho : ((st).vw < 0.95f ? fmax((st).mw, sp.rho0) : (st).mw)
+
+#ifdef CLSPH_LANES
+// The CPU form (neighbour_loop.h, lanes): the same sums for CLSPH_LANES particles of one cell.
+#include "lanes.h"
+
+typedef struct {
+    floatV mw, vw, rho;
+    intV fluid;
+} DensityLanes;
+
+#define LANES_T DensityLanes
+#define LANES_INIT(st, base, count)                                              \
+    do {                                                                         \
+        float trho[VW];                                                          \
+        int tfluid[VW];                                                          \
+        for (uint l = 0; l < VW; ++l) {                                          \
+            const uint i_ = (base) + min(l, (count) - 1u);                       \
+            trho[l] = velrho[i_].w;                                              \
+            tfluid[l] = (ids[i_] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? -1 : 0; \
+        }                                                                        \
+        (st).rho = vloadV(0, trho);                                              \
+        (st).fluid = vloadV(0, tfluid);                                          \
+        (st).mw = (st).vw = (floatV)(0.0f);                                      \
+    } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit)                                             \
+    do {                                                                                   \
+        const floatV w = select((floatV)(0.0f), kernel_w_lanes(&sp, sqrt(r2)), hit);       \
+        (st).mw += sp.mass * w;                                                            \
+        (st).vw += (sp.mass / velrho[j].w) * w;                                            \
+    } while (0)
+#define LANES_STORE(st, base, count)                                                       \
+    do {                                                                                   \
+        float tmw[VW], tvw[VW], trho[VW];                                                  \
+        int tfluid[VW];                                                                    \
+        vstoreV((st).mw, 0, tmw);                                                          \
+        vstoreV((st).vw, 0, tvw);                                                          \
+        vstoreV((st).rho, 0, trho);                                                        \
+        vstoreV((st).fluid, 0, tfluid);                                                    \
+        for (uint l = 0; l < (count); ++l)                                                 \
+            rho_out[(base) + l] = !tfluid[l] ? trho[l] : (tvw[l] < 0.95f ? fmax(tmw[l], sp.rho0) : tmw[l]); \
+    } while (0)
+#endif
 
 #include "neighbour_loop.h"

@@ -21,13 +21,12 @@
 typedef struct {
     float4 pos;
     float4 velrho;
+    float p;     // Tait pressure of velrho.w, computed once per loaded neighbour
     uint fluid;
 } ForceNeighbour;
 
 typedef struct {
-    float3 acc;
-    float drho;
-    float p, rho;
+    float4 sum;  // acceleration xyz (fluid i only) and drho/dt
     uint fluid;
 } ForceState;
 
@@ -38,58 +37,141 @@ typedef struct {
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
         (nb).velrho = velrho[j];                                                \
+        (nb).p = pressure_of(&sp, (nb).velrho.w);                               \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
     } while (0)
 #define STATE_T ForceState
 #define STATE_INIT(st, i, self)                      \
     do {                                             \
-        (st).acc = (float3)(0.0f);                   \
-        (st).drho = 0.0f;                            \
-        (st).rho = (self).velrho.w;                  \
-        (st).p = pressure_of(&sp, (st).rho);         \
+        (st).sum = (float4)(0.0f);                   \
         (st).fluid = (self).fluid;                   \
     } while (0)
 
-inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb,
-                       const float3 rij, const float r2) {
-    if (r2 <= 1e-18f) return;  // the particle itself
+// The terms of one pair (i, j) within the support: (acceleration of i, drho_i/dt).
+inline float4 force_terms(const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb, const float3 rij,
+                          const float r2) {
+    if (r2 <= 1e-18f) return (float4)(0.0f);  // the particle itself
     const float r = sqrt(r2);
     const float f = kernel_f(sp, r);
     const float3 d = -rij;  // x_i - x_j
     const float3 vij = self->velrho.xyz - nb->velrho.xyz;
     const float vd = dot(vij, d);
-    const float rho_j = nb->velrho.w;
+    const float rho_i = self->velrho.w, rho_j = nb->velrho.w;
     const float m = sp->mass;
 #ifndef CLSPH_SUMMATION
-    st->drho += m * vd * f;
+    float drho = m * vd * f;
 #else
-    if (!st->fluid) st->drho += m * vd * f;
+    float drho = self->fluid ? 0.0f : m * vd * f;
 #endif
 #if CLSPH_DIFFUSION == 1
-    st->drho += sp->diffusion * 2.0f * (rho_j - st->rho) * (-f) * m / rho_j;
+    drho += sp->diffusion * 2.0f * (rho_j - rho_i) * (-f) * m / rho_j;
 #elif CLSPH_DIFFUSION == 2
-    if (st->fluid && nb->fluid) {
+    if (self->fluid && nb->fluid) {
         const float rho_h = sp->hydro * (sp->gx * rij.x + sp->gy * rij.y + sp->gz * rij.z);
-        st->drho += sp->diffusion * 2.0f * (rho_j - st->rho - rho_h) * (-f) * m / rho_j;
+        drho += sp->diffusion * 2.0f * (rho_j - rho_i - rho_h) * (-f) * m / rho_j;
     }
 #endif
-    if (st->fluid) {
-        const float p_j = pressure_of(sp, rho_j);
-        float coef = (st->p + p_j) / (st->rho * rho_j);
+    float3 acc = (float3)(0.0f);
+    if (self->fluid) {
+        float coef = (self->p + nb->p) / (rho_i * rho_j);
         if (nb->fluid && vd < 0.0f) {
             const float mu = sp->h * vd / (r2 + sp->eta2);
-            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (st->rho + rho_j));
+            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (rho_i + rho_j));
         }
-        st->acc += (-m * coef * f) * d;
+        acc = (-m * coef * f) * d;
     }
+    return (float4)(acc, drho);
 }
 
-#define PAIR(st, self, nb, i, j, rij, r2) force_pair(&(st), &sp, &(self), &(nb), (rij), (r2))
-#define STATE_STORE(st, i)                                                                      \
-    do {                                                                                        \
-        float4 out = (float4)(0.0f, 0.0f, 0.0f, (st).drho);                                     \
-        if ((st).fluid) out.xyz = (st).acc + (float3)(sp.gx, sp.gy, sp.gz);                     \
-        accel[i] = out;                                                                         \
+#define TERMS(self, nb, rij, r2) force_terms(&sp, &(self), &(nb), (rij), (r2))
+#define STATE_ADD(st, t) (st).sum += (t)
+#define PAIR(st, self, nb, i, j, rij, r2) STATE_ADD(st, TERMS(self, nb, rij, r2))
+#define STATE_STORE(st, i)                                                                                     \
+    accel[i] = (st).fluid ? (float4)((st).sum.xyz + (float3)(sp.gx, sp.gy, sp.gz), (st).sum.w) \
+                          : (float4)(0.0f, 0.0f, 0.0f, (st).sum.w)
+
+#ifdef CLSPH_LANES
+// The CPU form (neighbour_loop.h, lanes): force_pair for CLSPH_LANES particles i of one cell at
+// once against one neighbour j. Lanes without a hit (and i itself) get F = 0, which zeroes every
+// term (each is proportional to F); boundary lanes' accelerations are summed and never stored.
+#include "lanes.h"
+
+typedef struct {
+    floatV vx, vy, vz, rho, p;
+    intV fluid;  // -1 in fluid lanes
+    floatV ax, ay, az, drho;
+} ForceLanes;
+
+inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, const uint id_j, const floatV rx,
+                        const floatV ry, const floatV rz, const floatV r2, const intV hit) {
+    const bool fluid_j = (id_j >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
+    const floatV r = sqrt(r2);
+    const floatV mf = select((floatV)(0.0f), sp->mass * kernel_f_lanes(sp, r), hit & (r2 > 1e-18f));
+    const floatV vx = st->vx - vr_j.x, vy = st->vy - vr_j.y, vz = st->vz - vr_j.z;
+    const floatV vd = -(vx * rx + vy * ry + vz * rz);  // v_ij . (x_i - x_j)
+    const float rho_j = vr_j.w;
+#ifndef CLSPH_SUMMATION
+    st->drho += mf * vd;
+#else
+    st->drho += select(mf * vd, (floatV)(0.0f), st->fluid);
+#endif
+#if CLSPH_DIFFUSION == 1
+    st->drho += (sp->diffusion * 2.0f / rho_j) * (rho_j - st->rho) * (-mf);
+#elif CLSPH_DIFFUSION == 2
+    if (fluid_j) {
+        const floatV rho_h = sp->hydro * (sp->gx * rx + sp->gy * ry + sp->gz * rz);
+        st->drho += select((floatV)(0.0f), (sp->diffusion * 2.0f / rho_j) * (rho_j - st->rho - rho_h) * (-mf), st->fluid);
+    }
+#endif
+    const float p_j = pressure_of(sp, rho_j);
+    floatV coef = (st->p + p_j) / (st->rho * rho_j);
+    if (fluid_j) {
+        const floatV mu = sp->h * vd / (r2 + sp->eta2);
+        coef += select((floatV)(0.0f), (-sp->visc_alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
+    }
+    const floatV s = mf * coef;  // a_i += -m coef F (x_i - x_j) = m coef F rij
+    st->ax += s * rx;
+    st->ay += s * ry;
+    st->az += s * rz;
+}
+
+#define LANES_T ForceLanes
+#define LANES_INIT(st, base, count)                                              \
+    do {                                                                         \
+        float tvx[VW], tvy[VW], tvz[VW], trho[VW], tp[VW];                       \
+        int tfluid[VW];                                                          \
+        for (uint l = 0; l < VW; ++l) {                                          \
+            const uint i_ = (base) + min(l, (count) - 1u);                       \
+            const float4 vr = velrho[i_];                                        \
+            tvx[l] = vr.x;                                                       \
+            tvy[l] = vr.y;                                                       \
+            tvz[l] = vr.z;                                                       \
+            trho[l] = vr.w;                                                      \
+            tp[l] = pressure_of(&sp, vr.w);                                      \
+            tfluid[l] = (ids[i_] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? -1 : 0; \
+        }                                                                        \
+        (st).vx = vloadV(0, tvx);                                                \
+        (st).vy = vloadV(0, tvy);                                                \
+        (st).vz = vloadV(0, tvz);                                                \
+        (st).rho = vloadV(0, trho);                                              \
+        (st).p = vloadV(0, tp);                                                  \
+        (st).fluid = vloadV(0, tfluid);                                          \
+        (st).ax = (st).ay = (st).az = (st).drho = (floatV)(0.0f);                \
     } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit)
+#define LANES_STORE(st, base, count)                                                        \
+    do {                                                                                    \
+        float tax[VW], tay[VW], taz[VW], tdrho[VW];                                         \
+        int tfluid[VW];                                                                     \
+        vstoreV((st).ax, 0, tax);                                                           \
+        vstoreV((st).ay, 0, tay);                                                           \
+        vstoreV((st).az, 0, taz);                                                           \
+        vstoreV((st).drho, 0, tdrho);                                                       \
+        vstoreV((st).fluid, 0, tfluid);                                                     \
+        for (uint l = 0; l < (count); ++l)                                                  \
+            accel[(base) + l] = tfluid[l] ? (float4)(tax[l] + sp.gx, tay[l] + sp.gy, taz[l] + sp.gz, tdrho[l]) \
+                                          : (float4)(0.0f, 0.0f, 0.0f, tdrho[l]);           \
+    } while (0)
+#endif
 
 #include "neighbour_loop.h"

@@ -1,7 +1,7 @@
 // The clsph command-line tool. It uses only the public API (host/include/clsph).
 //   clsph devices [--devices SPEC]
 //   clsph run SCENE [--devices SPEC] [--until T] [--steps N] [--out DIR] [--every DT] [--csv]
-//                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--coarse]
+//                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
 //                   [--balance dynamic|static|off] [--balance-log FILE]
 #include "run_args.hpp"
 #include "run_command.hpp"
@@ -41,7 +41,11 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
         ->type_name("KEY=VALUE");
     run.add_flag("--dry-run", a.dry_run, "print particle counts, memory per device, first time step and output size, then exit");
     run.add_flag("--force", a.force, "overwrite the run files in an existing output directory");
-    run.add_flag("--coarse", a.coarse, "coarse-grained interaction kernel (a work-group per cell)");
+    run.add_option("--interaction", a.interaction,
+                   "interaction form on every device: auto (masked on GPUs, lanes on CPUs), fine, masked, lanes, coarse "
+                   "(default: the scene's run.interaction)")
+        ->check(CLI::IsMember({"auto", "fine", "masked", "tiled", "lanes", "coarse"}))
+        ->type_name("NAME");
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))
         ->capture_default_str();

@@ -12,7 +12,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     Options opts;
     opts.devices = args.devices;
     opts.profile = args.profile;
-    opts.coarse = args.coarse;
+    if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = args.balance;
     opts.balance_log = args.balance_log;
     // Test hook (tests/cli): CLSPH_TEST_DEVICE_FAILURE=STEP[:DEVICE] simulates a device failing

@@ -21,7 +21,7 @@ struct RunArgs {
     bool profile = false;
     bool dry_run = false;
     bool force = false;
-    bool coarse = false;
+    std::string interaction;                  // --interaction NAME; empty: the scene's run.interaction
     std::vector<std::string> command_line;    // argv, for run.json
 };
 

@@ -24,6 +24,12 @@
 namespace clsph::app {
 namespace {
 
+std::vector<std::string> interaction_forms(const Simulation& sim) {
+    std::vector<std::string> out;
+    for (const auto& d : sim.shares()) out.push_back(interaction_name(d.interaction));
+    return out;
+}
+
 using clock = std::chrono::steady_clock;
 
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
@@ -42,7 +48,8 @@ public:
           args_(args),
           plan_(plan),
           record_(plan.out_dir,
-                  RunIdentity{args.scene_path, args.overrides, args.command_line, sim.device_names(), sim.scene().to_json()},
+                  RunIdentity{args.scene_path, args.overrides, args.command_line, sim.device_names(),
+                              interaction_forms(sim), sim.scene().to_json()},
                   sim.scene().probes),
           frames_(plan.out_dir, plan.collection_name, args.csv),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {}
@@ -124,7 +131,8 @@ public:
         for (const auto& d : sim_.shares()) {
             // Where the slabs ended up: particles and grid columns per device.
             totals_.devices.push_back(d.device + ": " + std::to_string(d.particles) + " particles, grid columns [" +
-                                      std::to_string(d.first_column) + ", " + std::to_string(d.end_column) + ")");
+                                      std::to_string(d.first_column) + ", " + std::to_string(d.end_column) +
+                                      "), interaction " + interaction_name(d.interaction));
         }
         print_summary(std::cout, totals_);
         if (args_.profile && code != exit_device_failed) print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());

@@ -126,6 +126,7 @@ void RunRecord::write_json(const std::string& status, const StepInfo* last, cons
       << "  \"scene_file\": " << json_string(identity_.scene_file) << ",\n"
       << "  \"overrides\": " << json_strings(identity_.overrides) << ",\n"
       << "  \"devices\": " << json_strings(identity_.devices) << ",\n"
+      << "  \"interaction\": " << json_strings(identity_.interactions) << ",\n"
       << "  \"start_time\": " << json_string(started_) << ",\n"
       << "  \"status\": " << json_string(status) << ",\n";
     if (!message.empty()) j << "  \"message\": " << json_string(message) << ",\n";

@@ -18,6 +18,7 @@ struct RunIdentity {
     std::vector<std::string> overrides;
     std::vector<std::string> command_line;
     std::vector<std::string> devices;
+    std::vector<std::string> interactions;  // the interaction form each device runs, in device order
     std::string scene_json;  // Scene::to_json(): the resolved scene, every default filled in
 };
 

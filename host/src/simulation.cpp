@@ -83,7 +83,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
         devs.push_back(d.get());
     }
     multi::DriverOptions dopt;
-    dopt.coarse = options.coarse;
+    dopt.interaction = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
     const auto balance = balance::mode_from_string(options.balance);
     if (!balance) throw Error("--balance: unknown mode '" + options.balance + "' (use dynamic, static or off)");
     dopt.balance = *balance;
@@ -174,7 +174,8 @@ std::vector<DeviceShare> Simulation::shares() const {
     for (auto& s : impl_->driver->slabs())
         out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds,
                        s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes,
-                       s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed});
+                       s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
+                       s.physics->interaction()});
     return out;
 }
 

@@ -127,22 +127,26 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         double alpha;
         KernelType kernel;
         DensityMode density;
+        double hdp;  // 1.5: cells of 27 lattice sites; 2.2: of ~85, so cells take several 32-particle chunks
     };
-    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity},
-                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity},
-                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity},
-                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation}};
+    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5},
+                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5},
+                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity, 1.5},
+                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation, 1.5},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs)
-            for (bool coarse : {false, true}) {
+            for (const Interaction form : interaction_forms()) {
                 CAPTURE(static_cast<int>(c.diffusion));
                 CAPTURE(c.alpha);
-                CAPTURE(coarse);
+                CAPTURE(c.hdp);
+                CAPTURE(interaction_name(form));
                 CAPTURE(static_cast<int>(c.density));
                 Scene s;
                 s.physics.dp = 0.01;
-                s.physics.hdp = 1.5;
+                s.physics.hdp = c.hdp;
                 s.physics.c0 = 15.0;
                 s.physics.diffusion = c.diffusion;
                 s.physics.alpha = c.alpha;
@@ -156,7 +160,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 ParticleStore ps(*d, grid, in.size());
                 ps.upload(in);
                 CellPipeline cells(*d, grid);
-                Physics phys(*d, grid, s, coarse);
+                Physics phys(*d, grid, s, form);
                 cells.run(ps);
                 const Particles before = ps.download();  // sorted order, float-rounded values
                 d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison

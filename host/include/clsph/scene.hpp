@@ -1,6 +1,7 @@
 // What to simulate: physics parameters, the domain, fluid blocks, boundaries, probes and run
 // control. Built in code or read from a JSON file (Scene::from_file). Units: SI (m, s, kg).
 #pragma once
+#include "clsph/interaction.hpp"
 #include "clsph/particles.hpp"
 
 #include <array>
@@ -88,6 +89,7 @@ struct RunControl {
     double output_every = 0.01;  // simulated seconds between output frames
     int probe_every = 10;        // steps between probe samples
     double fixed_dt = 0.0;       // > 0: use this time step instead of the adaptive CFL step
+    Interaction interaction = Interaction::automatic;  // the interaction form (clsph/interaction.hpp)
 };
 
 struct Scene {

@@ -1,5 +1,6 @@
 // Running a scene on OpenCL devices: the facade a host program (and the clsph tool) uses.
 #pragma once
+#include "clsph/interaction.hpp"
 #include "clsph/particles.hpp"
 #include "clsph/scene.hpp"
 
@@ -24,7 +25,9 @@ struct Options {
     std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
     bool profile = false;      // per-kernel times (profile())
     bool trace = false;        // with profile: every command's device timestamps too (take_trace())
-    bool coarse = false;       // coarse-grained (work-group per cell) interaction kernel
+    // The interaction form (clsph/interaction.hpp); automatic: the scene's run.interaction, which
+    // defaults to a choice per device type.
+    Interaction interaction = Interaction::automatic;
     double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
     std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
@@ -44,6 +47,7 @@ struct DeviceShare {
     // force pass this device would need for the whole scene, fitted as fixed + per-unit cost.
     double calibrated_whole_scene_seconds = 0;
     double calibrated_fixed_seconds = 0;
+    Interaction interaction = Interaction::automatic;  // the interaction form this device runs
 };
 
 struct StepInfo {

@@ -3,17 +3,24 @@
 #pragma once
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
+#include "device/primitives.hpp"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace clsph::device {
 
 SphParams make_sph_params(const Scene& scene);
+
+// The form a device runs when asked for `requested`: automatic becomes lanes on CPU devices (their
+// OpenCL compilers do not vectorise a work-item per particle) and masked elsewhere; the rest stay.
+Interaction interaction_for(Interaction requested, const DeviceInfo& device);
 
 struct KickResult {
     double max_speed2 = 0, max_accel2 = 0, kinetic_energy = 0;
@@ -23,8 +30,10 @@ struct KickResult {
 
 class Physics {
 public:
-    Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, bool coarse);
+    // `form`: the interaction form to run; automatic picks one by device type (interaction_for).
+    Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, Interaction form = Interaction::automatic);
     const SphParams& params() const { return sp_; }
+    Interaction interaction() const { return form_; }  // the form this device runs (never automatic)
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
     // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
@@ -47,9 +56,14 @@ private:
     cl_rt::Device& device_;
     const Grid& grid_;
     SphParams sp_{};
-    bool coarse_, summation_;
+    Interaction form_;
+    bool summation_;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
+    // The tiled form's work list: chunks of at most 32 particles per cell (kernels/interaction_chunks.cl).
+    cl::Kernel chunk_k_;
+    std::unique_ptr<Scan> chunk_scan_;
+    cl_rt::Buffer chunk_counts_, chunk_start_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;

@@ -9,6 +9,7 @@
 #include "balance/balancer.hpp"
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
 #include "clsph/testing.hpp"
 #include "device/grid.hpp"
@@ -27,7 +28,7 @@
 namespace clsph::multi {
 
 struct DriverOptions {
-    bool coarse = false;
+    Interaction interaction = Interaction::automatic;
     balance::Mode balance = balance::Mode::dynamic;
     std::string balance_log;  // CSV path, empty: none
     double headroom = 0.25;   // spare particle capacity per device

@@ -172,11 +172,14 @@ void read_probes(const Json& v, Scene& s) {
 }
 
 RunControl read_run(const Json& v) {
-    Fields f(v, "run", {"end_time", "output_every", "probe_every"});
+    Fields f(v, "run", {"end_time", "output_every", "probe_every", "interaction"});
     RunControl r;
     r.end_time = f.number("end_time", r.end_time);
     r.output_every = f.number("output_every", r.output_every);
     r.probe_every = f.integer("probe_every", r.probe_every);
+    r.interaction = f.choice("interaction", r.interaction,
+                             {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, {"masked", Interaction::masked}, {"tiled", Interaction::tiled},
+                              {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse}});
     return r;
 }
 

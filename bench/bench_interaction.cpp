@@ -1,0 +1,152 @@
+// The interaction pass alone, every form side by side: SPHERIC-2 at t = 0 (bench/spheric2_scene.hpp)
+// on one device at a time, the force kernel of each form (clsph/interaction.hpp) timed by its
+// launch events (median of repeats after warm-up), checked against the fine form, and what a warp
+// executes: candidates, hits, the fine scheme's pair slots (candidate steps with a hit in some lane
+// of 32) and the masked scheme's (per batch of 32 steps, the busiest lane's hits), from
+// kernels/interaction_stats.cl; and the loop with no pair terms (distances only).
+#include "spheric2_scene.hpp"
+
+#include "bench_util.hpp"
+#include "device/cell_pipeline.hpp"
+#include "device/physics.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+using namespace clsph;
+
+namespace {
+
+struct Loop {
+    cl::Kernel kernel;
+    bool per_cell = false;
+};
+
+void set_loop_args(cl::Kernel& k, const device::ParticleStore& ps, const device::CellPipeline& cp,
+                   const device::Grid& grid, float support2) {
+    k.setArg(0, cl_uint(ps.ranges.first_owned()));
+    k.setArg(1, cl_uint(ps.ranges.end_owned()));
+    k.setArg(2, grid.params());
+    k.setArg(3, support2);
+    k.setArg(4, ps.pos.get());
+    k.setArg(5, ps.vals.get());
+    k.setArg(6, cp.ranges().get());
+}
+
+void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats) {
+    const Particles p = scene.build_particles();
+    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
+                      scene.domain.periodic);
+    device::ParticleStore ps(d, grid, p.size(), 0.0);
+    ps.upload(p);
+    device::CellPipeline cp(d, grid);
+    cp.run(ps);
+    const std::size_t n = ps.ranges.owned;
+    const float support2 = static_cast<float>(scene.physics.support() * scene.physics.support());
+    auto out = d.alloc(4 * n * sizeof(float), "bench accelerations");
+    d.profiler().enable(true);
+
+    std::printf("%s", bench::header(d).c_str());
+    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells; force pass of each form, "
+                "median (min-max) of %d after %d warm-up, device events\n\n",
+                scene.physics.dp, n, cp.cells(), repeats, warmup);
+
+    // What a warp executes (geometry only: the same on every device).
+    auto stats_k = d.kernel("interaction_stats.cl", "warp_counts", grid.kernel_options());
+    const std::size_t groups = (n + 31) / 32;
+    auto counts = d.alloc(groups * 4 * sizeof(cl_uint), "warp counts");
+    set_loop_args(stats_k, ps, cp, grid, support2);
+    stats_k.setArg(7, counts.get());
+    d.launch("stats.warp_counts", stats_k, n, 32);
+    std::vector<cl_uint> c(groups * 4);
+    d.read(counts, c.data(), c.size());
+    double candidates = 0, hits = 0, fine_slots = 0, masked_slots = 0;
+    for (std::size_t g = 0; g < groups; ++g) {
+        candidates += c[4 * g];
+        hits += c[4 * g + 1];
+        fine_slots += c[4 * g + 2];
+        masked_slots += c[4 * g + 3];
+    }
+    std::printf("per particle: %.0f candidates, %.0f within the support (hit rate %.1f %%); pair-term slots per warp "
+                "of 32 for the hits of its lanes: fine %.2fx, masked %.2fx\n\n",
+                candidates / double(n), hits / double(n), 100 * hits / candidates, 32 * fine_slots / hits,
+                32 * masked_slots / hits);
+
+    // Distances only.
+    std::printf("| form | force pass ms | vs fine | max deviation from fine (of the component's largest value) |\n|---|---|---|---|\n");
+    for (const bool masked : {false, true}) {
+        auto k = d.kernel("interaction_stats.cl", "distance_only", grid.kernel_options() + (masked ? " -DCLSPH_MASKED" : ""));
+        auto hits_out = d.alloc(n * sizeof(cl_uint), "hits");
+        set_loop_args(k, ps, cp, grid, support2);
+        k.setArg(7, hits_out.get());
+        const auto s = bench::measure(warmup, repeats, [&] {
+            return bench::time_launches(d, [&] { d.launch(masked ? "stats.distances_masked" : "stats.distances", k, n, 128); });
+        });
+        std::printf("| %s loop, distances only (no pair terms) | %.3f (%.3f-%.3f) | | |\n", masked ? "masked" : "fine",
+                    1e3 * s.median, 1e3 * s.min, 1e3 * s.max);
+    }
+
+    std::vector<float> reference;
+    double fine_ms = 0;
+    for (const Interaction form : forms) {
+        device::Physics phys(d, grid, scene, form);
+        d.fill(out, std::numeric_limits<float>::quiet_NaN(), 4 * n);  // poison
+        const auto s = bench::measure(warmup, repeats, [&] { return bench::time_launches(d, [&] { phys.forces(ps, cp, out); }); });
+        std::vector<float> a(4 * n);
+        d.read(out, a.data(), a.size());
+        std::string deviation = "(reference)";
+        if (reference.empty()) {
+            reference = a;
+        } else {
+            double worst = 0;
+            for (int k = 0; k < 4; ++k) {
+                double largest = 0, diff = 0;
+                for (std::size_t i = 0; i < n; ++i) {
+                    largest = std::max(largest, double(std::abs(reference[4 * i + k])));
+                    const double e = std::abs(double(a[4 * i + k]) - reference[4 * i + k]);
+                    diff = std::isnan(e) ? INFINITY : std::max(diff, e);
+                }
+                worst = std::max(worst, largest > 0 ? diff / largest : diff);
+            }
+            char b[64];
+            std::snprintf(b, sizeof b, "%.2e", worst);
+            deviation = b;
+        }
+        if (form == Interaction::fine) fine_ms = 1e3 * s.median;
+        char ratio[32] = "";
+        if (fine_ms > 0) std::snprintf(ratio, sizeof ratio, "%.2fx", fine_ms / (1e3 * s.median));
+        std::printf("| %s | %.3f (%.3f-%.3f) | %s | %s |\n", interaction_name(form), 1e3 * s.median, 1e3 * s.min,
+                    1e3 * s.max, ratio, deviation.c_str());
+    }
+    std::printf("\n%.3g neighbour pairs (self excluded) per force pass\n", hits - double(n));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"clsph interaction-pass benchmark (SPHERIC-2 at t = 0)"};
+    std::string devices = "default";
+    double dp = 0.006;
+    int repeats = 10, warmup = 2;
+    std::vector<std::string> names{"fine", "masked", "tiled", "lanes", "coarse"};
+    app.add_option("--devices", devices, "device selection");
+    app.add_option("--dp", dp, "particle spacing (m)");
+    app.add_option("--repeats", repeats, "timed repeats");
+    app.add_option("--warmup", warmup, "untimed runs first");
+    app.add_option("--forms", names, "interaction forms to time, the first is the reference");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        std::vector<Interaction> forms;
+        for (const auto& s : names) forms.push_back(interaction_from_name(s));
+        const Scene scene = bench::spheric2_scene(dp);
+        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true})) run_device(*d, scene, forms, warmup, repeats);
+    } catch (const std::exception& e) {
+        std::cerr << "clsph-bench-interaction: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}
