@@ -1,5 +1,5 @@
 // clsph-bench-transfer: how fast data moves between two devices, the ways the multi-device driver
-// moves it (DESIGN.md, "Link"):
+// moves it (docs/multi_device.md, "Link"):
 //   (a) staged through pinned host memory across two contexts: read from device A into a
 //       CL_MEM_ALLOC_HOST_PTR buffer mapped once, then write from it into device B (with one device
 //       selected, B is the same device opened in a second context); pinned memory of B's context

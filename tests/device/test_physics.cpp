@@ -72,7 +72,7 @@ TEST_CASE("kernel invariants on every device: sum W = 1, sum grad W = 0, W >= 0"
                 auto in = d->alloc(n * 16, "offsets");
                 auto out = d->alloc(n * 16, "values");
                 d->write(in, off.data(), off.size());
-                auto k = d->kernel("integrate.cl", "kernel_values",
+                auto k = d->kernel("kernel_values.cl", "kernel_values",
                                    kt == KernelType::cubic_spline ? "-DWG=64 -DCLSPH_KERNEL_CUBIC" : "-DWG=64");
                 k.setArg(0, static_cast<cl_uint>(n));
                 k.setArg(1, sp);

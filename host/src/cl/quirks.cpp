@@ -24,9 +24,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     // kernel. Later Mesa versions fixed it, but we cannot tell a fixed build by version string
     // reliably, so all rusticl devices are host-timed (the cost is a queue.finish per timed launch).
     q.fake_event_timestamps = rusticl;
-    q.blocking_wait_spins = nvidia;
     q.kernel_work_group_size_understated = rusticl;
-    q.shared_context_copies_stall = nvidia;
     q.late_transfer_callbacks = nvidia;
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).

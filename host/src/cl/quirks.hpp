@@ -9,9 +9,8 @@ struct Quirks {
     // Mesa rusticl 22.3 (Debian 12) returns fake profiling timestamps: 0/1/2/3 ns for consecutive
     // events (seen with clinfo and our own timer test). Time launches with host clocks there.
     bool fake_event_timestamps = false;
-    // NVIDIA's clFinish / blocking reads spin a CPU core at 100 % while waiting. Prefer event
-    // callbacks and user events in multi-device loops so the host thread stays free.
-    bool blocking_wait_spins = false;
+    // (NVIDIA's clFinish / blocking reads spin a CPU core at 100 % while waiting: the step waits
+    // through cl/async.hpp's EventSet, on callbacks or by polling, never by a blocking wait.)
     // Local memory we allow a kernel to use: the reported size minus a margin, since some drivers
     // reserve part of it for their own use (rusticl reports 32 KiB on llvmpipe, NVIDIA 48 KiB).
     std::size_t usable_local_memory = 16 * 1024;
@@ -24,15 +23,14 @@ struct Quirks {
     // checked against CPU results: the scan at 64, 256 and 1024 work-items, the device maximum;
     // the radix sort at 64 and 256). Where set, the per-kernel query is ignored and the device
     // limit used instead.
+    bool kernel_work_group_size_understated = false;
     // (rusticl 22.3 also reports CL_KERNEL_LOCAL_MEM_SIZE as twice the kernel's local arrays and
     // does not enforce the limit; we budget local memory from the device's reported size.)
-    bool kernel_work_group_size_understated = false;
     // NVIDIA's OpenCL (driver 580.159.04, two H200s joined by NVLink): clEnqueueCopyBuffer in one
     // context holding both GPUs, from a buffer last written on the other GPU, took ~200 ms at every
     // size from 1 KiB to 256 MiB, where staging through pinned host memory across two contexts took
-    // 36 us (1 KiB) to 9.8 ms (256 MiB) (clsph-bench-transfer; BENCHMARKS.md). Where set, move data
-    // between devices by staging, with one context per device, never by shared-context copies.
-    bool shared_context_copies_stall = false;
+    // 36 us (1 KiB) to 9.8 ms (256 MiB) (clsph-bench-transfer; BENCHMARKS.md). So data moves
+    // between devices by staging (multi/link.hpp), with one context per device, on every vendor.
     // NVIDIA's OpenCL (driver 580.159.04, H200): completion callbacks of transfer events (reads into
     // pinned host memory) arrive ~10 ms after the copy is done. On two H200s with 21 M particles the
     // exchange's read phase took 11.0 ms/step waiting on callbacks and 0.2 ms with clWaitForEvents

@@ -166,13 +166,6 @@ void Physics::kick_drift(ParticleStore& ps, double dt) {
     device_.launch("sph.kick_drift", kick_drift_k_, n, wg_);
 }
 
-KickResult Physics::kick(ParticleStore& ps, double dt) {
-    cl_rt::EventSet done;
-    enqueue_kick(ps, dt, done);
-    done.wait("reading the step's reductions");
-    return kick_result();
-}
-
 void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) {
     const cl_uint none = 0xffffffffu;
     device_.fill(bad_, none, 1);

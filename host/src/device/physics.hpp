@@ -40,11 +40,9 @@ public:
     // ps.accel.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     void kick_drift(ParticleStore& ps, double dt);
-    // Combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps them so ps.accel
-    // holds the new ones. Blocking: reads the reductions back.
-    KickResult kick(ParticleStore& ps, double dt);
-    // kick() in two halves, for several devices at once: enqueue (reductions read into `done`), then
-    // after the wait, the result.
+    // The second kick: combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps
+    // them so ps.accel holds the new ones; the reductions are read into `done`, and after the wait
+    // kick_result() has them.
     void enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done);
     KickResult kick_result() const;
 
