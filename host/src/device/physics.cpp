@@ -1,5 +1,7 @@
 #include "device/physics.hpp"
 
+#include "cl/kernel_args.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -155,30 +157,16 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
 
 void Physics::kick_drift(ParticleStore& ps, double dt) {
     const std::size_t n = ps.ranges.owned;
-    kick_drift_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
-    kick_drift_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
-    kick_drift_k_.setArg(2, static_cast<float>(dt));
-    kick_drift_k_.setArg(3, sp_.rho0);
-    kick_drift_k_.setArg(4, ps.pos.get());
-    kick_drift_k_.setArg(5, ps.velrho.get());
-    kick_drift_k_.setArg(6, ps.accel.get());
-    kick_drift_k_.setArg(7, ps.id.get());
+    cl_rt::set_args(kick_drift_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), static_cast<float>(dt), sp_.rho0,
+                    ps.pos, ps.velrho, ps.accel, ps.id);
     device_.launch("sph.kick_drift", kick_drift_k_, n, wg_);
 }
 
 void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) {
     const cl_uint none = 0xffffffffu;
     device_.fill(bad_, none, 1);
-    kick_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
-    kick_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
-    kick_k_.setArg(2, static_cast<float>(dt));
-    kick_k_.setArg(3, sp_);
-    kick_k_.setArg(4, ps.velrho.get());
-    kick_k_.setArg(5, ps.accel.get());
-    kick_k_.setArg(6, ps.scratch.get());
-    kick_k_.setArg(7, ps.id.get());
-    kick_k_.setArg(8, partials_.get());
-    kick_k_.setArg(9, bad_.get());
+    cl_rt::set_args(kick_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), static_cast<float>(dt), sp_, ps.velrho,
+                    ps.accel, ps.scratch, ps.id, partials_, bad_);
     device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
     ps.accel.swap(ps.scratch);
     partials_host_.resize(device_, kick_groups_ * 4);
@@ -218,17 +206,8 @@ std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPi
         probe_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums");
     }
     device_.write(probe_in_, q.data(), q.size());
-    probe_k_.setArg(0, static_cast<cl_uint>(points.size()));
-    probe_k_.setArg(1, static_cast<cl_uint>(cells.cells()));
-    probe_k_.setArg(2, grid_.params());
-    probe_k_.setArg(3, sp_);
-    probe_k_.setArg(4, probe_in_.get());
-    probe_k_.setArg(5, cells.cell_key().get());
-    probe_k_.setArg(6, cells.cell_start().get());
-    probe_k_.setArg(7, ps.pos.get());
-    probe_k_.setArg(8, ps.velrho.get());
-    probe_k_.setArg(9, ps.id.get());
-    probe_k_.setArg(10, probe_out_.get());
+    cl_rt::set_args(probe_k_, points.size(), cells.cells(), grid_.params(), sp_, probe_in_, cells.cell_key(),
+                    cells.cell_start(), ps.pos, ps.velrho, ps.id, probe_out_);
     device_.launch("probe.points", probe_k_, points.size(), wg_);
     std::vector<float> raw(2 * points.size());
     device_.read(probe_out_, raw.data(), raw.size());
