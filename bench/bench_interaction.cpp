@@ -37,10 +37,11 @@ void set_loop_args(cl::Kernel& k, const device::ParticleStore& ps, const device:
     k.setArg(6, cp.ranges().get());
 }
 
-void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats) {
+void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats,
+                int reach) {
     const Particles p = scene.build_particles();
     device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
-                      scene.domain.periodic);
+                      scene.domain.periodic, reach);
     device::ParticleStore ps(d, grid, p.size(), 0.0);
     ps.upload(p);
     device::CellPipeline cp(d, grid);
@@ -51,9 +52,9 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
     d.profiler().enable(true);
 
     std::printf("%s", bench::header(d).c_str());
-    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells; force pass of each form, "
-                "median (min-max) of %d after %d warm-up, device events\n\n",
-                scene.physics.dp, n, cp.cells(), repeats, warmup);
+    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells (reach %d: %zu neighbour rows of "
+                "%d cells per cell); force pass of each form, median (min-max) of %d after %d warm-up, device events\n\n",
+                scene.physics.dp, n, cp.cells(), reach, grid.rows(), 2 * reach + 1, repeats, warmup);
 
     // What a warp executes (geometry only: the same on every device).
     auto stats_k = d.kernel("interaction_stats.cl", "warp_counts", grid.kernel_options());
@@ -132,18 +133,23 @@ int main(int argc, char** argv) {
     std::string devices = "default";
     double dp = 0.006;
     int repeats = 10, warmup = 2;
+    std::vector<int> reaches;
     std::vector<std::string> names{"fine", "masked", "tiled", "lanes", "coarse"};
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");
     app.add_option("--warmup", warmup, "untimed runs first");
     app.add_option("--forms", names, "interaction forms to time, the first is the reference");
+    app.add_option("--reach", reaches, "grid reaches to time (1: cells of a support; 2: of half a support along a "
+                                       "and b; default: what the simulation picks)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<Interaction> forms;
         for (const auto& s : names) forms.push_back(interaction_from_name(s));
         const Scene scene = bench::spheric2_scene(dp);
-        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true})) run_device(*d, scene, forms, warmup, repeats);
+        if (reaches.empty()) reaches.push_back(device::reach_for(scene.physics.support(), scene.physics.dp));
+        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true}))
+            for (int reach : reaches) run_device(*d, scene, forms, warmup, repeats, reach);
     } catch (const std::exception& e) {
         std::cerr << "clsph-bench-interaction: " << e.what() << '\n';
         return 1;

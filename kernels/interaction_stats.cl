@@ -47,9 +47,9 @@ __kernel __attribute__((reqd_work_group_size(32, 1, 1))) void warp_counts(
         c = cell_of[i];
     }
     uint candidates = 0u, hits = 0u;
-    for (uint r = 0; r < 9u; ++r) {
+    for (uint r = 0; r < ROWS; ++r) {
         uint2 range = (uint2)(0u, 0u);
-        if (active) range = ranges[c * 9u + r];
+        if (active) range = ranges[c * ROWS + r];
         const uint len = range.y > range.x ? range.y - range.x : 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
         if (lid == 0u) row_len = 0u;

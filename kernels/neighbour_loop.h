@@ -1,7 +1,7 @@
 // The neighbour iteration every interaction kernel uses, written once. An interaction file defines
 // what it needs from each neighbour and what it does with a pair, then includes this header, which
 // defines the kernel INTERACTION_NAME in one of five schemes (-DCLSPH_MASKED, -DCLSPH_TILED, -DCLSPH_LANES, -DCLSPH_COARSE):
-//   fine   (default): a work-item per particle walks its cell's 9 neighbour rows in global memory;
+//   fine   (default): a work-item per particle walks its cell's neighbour rows in global memory;
 //   masked          : as fine, distances of 32 candidates first, then the pairs of the hits only;
 //   tiled           : 32 particles of a cell per work-group, candidates in local memory, the hits
 //                     of all work-items shared out evenly before the pair terms (-DCLSPH_TILED);
@@ -51,10 +51,10 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
     const uint c = cell_of[i];
     const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
     const uint b_i = key_b(g, key_i);
-    for (uint r = 0; r < 9u; ++r) {
-        const uint2 range = ranges[c * 9u + r];
+    for (uint r = 0; r < ROWS; ++r) {
+        const uint2 range = ranges[c * ROWS + r];
         if (range.x >= range.y) continue;
-        const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+        const int ds = row_ds(r), da = row_da(r);
         int a2 = a_i + da;
         if (a2 < 0) a2 += (int)g.n_a;
         if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
@@ -165,9 +165,9 @@ __kernel __attribute__((reqd_work_group_size(32, 1, 1))) void INTERACTION_NAME(
     self_rel[lid] = (float4)(self.pos.xyz, 0.0f);
     STATE_T st;
     STATE_INIT(st, i, self);
-    for (uint r = 0; r < 9u; ++r) {
-        const uint2 range = ranges[c * 9u + r];
-        const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+    for (uint r = 0; r < ROWS; ++r) {
+        const uint2 range = ranges[c * ROWS + r];
+        const int ds = row_ds(r), da = row_da(r);
         int a2 = a_c + da;
         if (a2 < 0) a2 += (int)g.n_a;
         if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
@@ -271,10 +271,10 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
         }
         LANES_T st;
         LANES_INIT(st, base, count);
-        for (uint r = 0; r < 9u; ++r) {
-            const uint2 range = ranges[c * 9u + r];
+        for (uint r = 0; r < ROWS; ++r) {
+            const uint2 range = ranges[c * ROWS + r];
             if (range.x >= range.y) continue;
-            const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+            const int ds = row_ds(r), da = row_da(r);
             int a2 = a_c + da;
             if (a2 < 0) a2 += (int)g.n_a;
             if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
@@ -317,10 +317,10 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
     // an integer subtraction and a few flops; the s and a offsets are per row.
     const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
     const uint b_i = key_b(g, key_i);
-    for (uint r = 0; r < 9u; ++r) {
-        const uint2 range = ranges[c * 9u + r];
+    for (uint r = 0; r < ROWS; ++r) {
+        const uint2 range = ranges[c * ROWS + r];
         if (range.x >= range.y) continue;
-        const int ds = (int)(r / 3u) - 1, da = (int)(r % 3u) - 1;
+        const int ds = row_ds(r), da = row_da(r);
         int a2 = a_i + da;  // only rows inside the domain are non-empty; a may wrap
         if (a2 < 0) a2 += (int)g.n_a;
         if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
@@ -371,8 +371,8 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void INTERACTION_NAME(
             key_i = pos_key(self.pos);
             STATE_INIT(st, i, self);
         }
-        for (uint r = 0; r < 9u; ++r) {
-            const uint2 range = ranges[c * 9u + r];
+        for (uint r = 0; r < ROWS; ++r) {
+            const uint2 range = ranges[c * ROWS + r];
             for (uint tile_begin = range.x; tile_begin < range.y; tile_begin += WG) {
                 const uint count = min((uint)WG, range.y - tile_begin);
                 barrier(CLK_LOCAL_MEM_FENCE);

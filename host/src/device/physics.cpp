@@ -55,7 +55,9 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
       form_(interaction_for(form, device.info())),
       summation_(scene.physics.density == DensityMode::summation),
       wg_(device.work_group_size(128)),
-      coarse_wg_(device.work_group_size(64)) {
+      coarse_wg_(device.work_group_size(64)),
+      interaction_wg_(std::getenv("CLSPH_INTERACTION_WG") ? std::strtoul(std::getenv("CLSPH_INTERACTION_WG"), nullptr, 10)
+                                                          : wg_) {
     std::string opts = grid.kernel_options();
     if (scene.physics.kernel == KernelType::cubic_spline) opts += " -DCLSPH_KERNEL_CUBIC";
     const int diffusion = scene.physics.diffusion == Diffusion::none                 ? 0
@@ -131,7 +133,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         else if (form_ == Interaction::lanes)
             device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
         else
-            device_.launch(name, k, n, wg_);
+            device_.launch(name, k, n, interaction_wg_);
     };
     const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes || form_ == Interaction::tiled;
     if (summation_) {

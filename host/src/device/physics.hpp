@@ -58,7 +58,7 @@ private:
     SphParams sp_{};
     Interaction form_;
     bool summation_;
-    std::size_t wg_, coarse_wg_, kick_groups_;
+    std::size_t wg_, coarse_wg_, interaction_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     // The tiled form's work list: chunks of at most 32 particles per cell (kernels/interaction_chunks.cl).
     cl::Kernel chunk_k_;
