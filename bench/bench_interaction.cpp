@@ -2,7 +2,7 @@
 // on one device at a time, the force kernel of each form (clsph/interaction.hpp) timed by its
 // launch events (median of repeats after warm-up), checked against the fine form, and what a warp
 // executes: candidates, hits, the fine scheme's pair slots (candidate steps with a hit in some lane
-// of 32) and the masked scheme's (per batch of 32 steps, the busiest lane's hits), from
+// of 32) and a masked scheme's (per batch of 32 steps, the busiest lane's hits), from
 // kernels/interaction_stats.cl; and the loop with no pair terms (distances only).
 #include "spheric2_scene.hpp"
 
@@ -79,16 +79,16 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
 
     // Distances only.
     std::printf("| form | force pass ms | vs fine | max deviation from fine (of the component's largest value) |\n|---|---|---|---|\n");
-    for (const bool masked : {false, true}) {
-        auto k = d.kernel("interaction_stats.cl", "distance_only", grid.kernel_options() + (masked ? " -DCLSPH_MASKED" : ""));
+    {
+        auto k = d.kernel("interaction_stats.cl", "distance_only", grid.kernel_options());
         auto hits_out = d.alloc(n * sizeof(cl_uint), "hits");
         set_loop_args(k, ps, cp, grid, support2);
         k.setArg(7, hits_out.get());
         const auto s = bench::measure(warmup, repeats, [&] {
-            return bench::time_launches(d, [&] { d.launch(masked ? "stats.distances_masked" : "stats.distances", k, n, 128); });
+            return bench::time_launches(d, [&] { d.launch("stats.distances", k, n, 128); });
         });
-        std::printf("| %s loop, distances only (no pair terms) | %.3f (%.3f-%.3f) | | |\n", masked ? "masked" : "fine",
-                    1e3 * s.median, 1e3 * s.min, 1e3 * s.max);
+        std::printf("| fine loop, distances only (no pair terms) | %.3f (%.3f-%.3f) | | |\n", 1e3 * s.median, 1e3 * s.min,
+                    1e3 * s.max);
     }
 
     std::vector<float> reference;
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     double dp = 0.006;
     int repeats = 10, warmup = 2;
     std::vector<int> reaches;
-    std::vector<std::string> names{"fine", "masked", "tiled", "lanes", "coarse"};
+    std::vector<std::string> names{"fine", "lanes", "coarse"};
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");

@@ -86,27 +86,7 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
     }
 }
 
-// The same terms on their own, for the tiled scheme (which computes a pair on one work-item and
-// adds it on another): (acceleration, drho/dt).
-inline float4 force_terms(const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb, const float3 rij,
-                          const float r2) {
-    ForceState t;
-    t.acc = (float3)(0.0f);
-    t.drho = 0.0f;
-    t.rho = self->velrho.w;
-    t.p = pressure_of(sp, t.rho);
-    t.fluid = self->fluid;
-    force_pair(&t, sp, self, nb, rij, r2);
-    return (float4)(t.acc, t.drho);
-}
-
 #define PAIR(st, self, nb, i, j, rij, r2) force_pair(&(st), &sp, &(self), &(nb), (rij), (r2))
-#define TERMS(self, nb, rij, r2) force_terms(&sp, &(self), &(nb), (rij), (r2))
-#define STATE_ADD(st, t)     \
-    do {                     \
-        (st).acc += (t).xyz; \
-        (st).drho += (t).w;  \
-    } while (0)
 #define STATE_STORE(st, i)                                                                      \
     do {                                                                                        \
         float4 out = (float4)(0.0f, 0.0f, 0.0f, (st).drho);                                     \
