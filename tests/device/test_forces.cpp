@@ -146,7 +146,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 CAPTURE(c.alpha);
                 CAPTURE(c.hdp);
                 CAPTURE(c.reach);
-                CAPTURE(interaction_name(form));
+                CAPTURE(std::string(interaction_name(form)));
                 CAPTURE(static_cast<int>(c.density));
                 Scene s;
                 s.physics.dp = 0.01;
