@@ -2,7 +2,7 @@
 // on one device at a time, the force kernel of each form (clsph/interaction.hpp) timed by its
 // launch events (median of repeats after warm-up), checked against the fine form, and what a warp
 // executes: candidates, hits, the fine scheme's pair slots (candidate steps with a hit in some lane
-// of 32) and the masked scheme's (per batch of 32 steps, the busiest lane's hits), from
+// of 32) and a masked scheme's (per batch of 32 steps, the busiest lane's hits), from
 // kernels/interaction_stats.cl; and the loop with no pair terms (distances only).
 #include "spheric2_scene.hpp"
 
@@ -37,10 +37,11 @@ void set_loop_args(cl::Kernel& k, const device::ParticleStore& ps, const device:
     k.setArg(6, cp.ranges().get());
 }
 
-void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats) {
+void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats,
+                int reach) {
     const Particles p = scene.build_particles();
     device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
-                      scene.domain.periodic);
+                      scene.domain.periodic, reach);
     device::ParticleStore ps(d, grid, p.size(), 0.0);
     ps.upload(p);
     device::CellPipeline cp(d, grid);
@@ -51,9 +52,9 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
     d.profiler().enable(true);
 
     std::printf("%s", bench::header(d).c_str());
-    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells; force pass of each form, "
-                "median (min-max) of %d after %d warm-up, device events\n\n",
-                scene.physics.dp, n, cp.cells(), repeats, warmup);
+    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells (reach %d: %zu neighbour rows of "
+                "%d cells per cell); force pass of each form, median (min-max) of %d after %d warm-up, device events\n\n",
+                scene.physics.dp, n, cp.cells(), reach, grid.rows(), 2 * reach + 1, repeats, warmup);
 
     // What a warp executes (geometry only: the same on every device).
     auto stats_k = d.kernel("interaction_stats.cl", "warp_counts", grid.kernel_options());
@@ -78,16 +79,16 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
 
     // Distances only.
     std::printf("| form | force pass ms | vs fine | max deviation from fine (of the component's largest value) |\n|---|---|---|---|\n");
-    for (const bool masked : {false, true}) {
-        auto k = d.kernel("interaction_stats.cl", "distance_only", grid.kernel_options() + (masked ? " -DCLSPH_MASKED" : ""));
+    {
+        auto k = d.kernel("interaction_stats.cl", "distance_only", grid.kernel_options());
         auto hits_out = d.alloc(n * sizeof(cl_uint), "hits");
         set_loop_args(k, ps, cp, grid, support2);
         k.setArg(7, hits_out.get());
         const auto s = bench::measure(warmup, repeats, [&] {
-            return bench::time_launches(d, [&] { d.launch(masked ? "stats.distances_masked" : "stats.distances", k, n, 128); });
+            return bench::time_launches(d, [&] { d.launch("stats.distances", k, n, 128); });
         });
-        std::printf("| %s loop, distances only (no pair terms) | %.3f (%.3f-%.3f) | | |\n", masked ? "masked" : "fine",
-                    1e3 * s.median, 1e3 * s.min, 1e3 * s.max);
+        std::printf("| fine loop, distances only (no pair terms) | %.3f (%.3f-%.3f) | | |\n", 1e3 * s.median, 1e3 * s.min,
+                    1e3 * s.max);
     }
 
     std::vector<float> reference;
@@ -132,18 +133,23 @@ int main(int argc, char** argv) {
     std::string devices = "default";
     double dp = 0.006;
     int repeats = 10, warmup = 2;
-    std::vector<std::string> names{"fine", "masked", "tiled", "lanes", "coarse"};
+    std::vector<int> reaches;
+    std::vector<std::string> names{"fine", "lanes", "coarse"};
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");
     app.add_option("--warmup", warmup, "untimed runs first");
     app.add_option("--forms", names, "interaction forms to time, the first is the reference");
+    app.add_option("--reach", reaches, "grid reaches to time (1: cells of a support; 2: of half a support along a "
+                                       "and b; default: what the simulation picks)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<Interaction> forms;
         for (const auto& s : names) forms.push_back(interaction_from_name(s));
         const Scene scene = bench::spheric2_scene(dp);
-        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true})) run_device(*d, scene, forms, warmup, repeats);
+        if (reaches.empty()) reaches.push_back(device::reach_for(scene.physics.support(), scene.physics.dp));
+        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true}))
+            for (int reach : reaches) run_device(*d, scene, forms, warmup, repeats, reach);
     } catch (const std::exception& e) {
         std::cerr << "clsph-bench-interaction: " << e.what() << '\n';
         return 1;

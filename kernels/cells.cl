@@ -251,9 +251,9 @@ __kernel void cell_of_particle(const uint n, __global const uint* keys, __global
     scan[i] = scan[i] + starts_cell(keys, i) - 1u;  // each element reads and writes only itself
 }
 
-// ranges[c * 9 + r] = [begin, end) of the particles in neighbour row r of cell c. A row is the
-// three cells b-1, b, b+1 at one (s + ds, a + da): consecutive keys thanks to the padding of b,
-// hence one contiguous particle range. Rows off the domain are empty; axis a wraps if periodic.
+// ranges[c * ROWS + r] = [begin, end) of the particles in neighbour row r of cell c (grid.h: the
+// cells b - REACH .. b + REACH at one (s + ds, a + da)): consecutive keys thanks to the padding of
+// b, hence one contiguous particle range. Rows off the domain are empty; axis a wraps if periodic.
 __kernel void neighbour_ranges(const uint k, const GridParams g, __global const uint* cell_key,
                                __global const uint* cell_start, __global uint2* ranges) {
     const uint c = get_global_id(0);
@@ -261,10 +261,9 @@ __kernel void neighbour_ranges(const uint k, const GridParams g, __global const 
     const uint key = cell_key[c];
     const int s = (int)key_s(g, key), a = (int)key_a(g, key);
     const uint b = key_b(g, key);
-    for (int ds = -1; ds <= 1; ++ds) {
-        for (int da = -1; da <= 1; ++da) {
-            const uint r = (uint)((ds + 1) * 3 + (da + 1));
-            int s2 = s + ds, a2 = a + da;
+    for (uint r = 0; r < ROWS; ++r) {
+        {
+            int s2 = s + row_ds(r), a2 = a + row_da(r);
             if (g.periodic_a) {
                 if (a2 < 0) a2 += (int)g.n_a;
                 if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
@@ -272,11 +271,11 @@ __kernel void neighbour_ranges(const uint k, const GridParams g, __global const 
             uint2 range = (uint2)(0u, 0u);
             if (s2 >= 0 && s2 < (int)g.n_s && a2 >= 0 && a2 < (int)g.n_a) {
                 const uint mid = make_key(g, (uint)s2, (uint)a2, b);
-                const uint first = lower_bound_key(cell_key, k, mid - 1u);
-                const uint last = lower_bound_key(cell_key, k, mid + 2u);
+                const uint first = lower_bound_key(cell_key, k, mid - CLSPH_REACH);
+                const uint last = lower_bound_key(cell_key, k, mid + CLSPH_REACH + 1u);
                 range = (uint2)(cell_start[first], cell_start[last]);
             }
-            ranges[c * 9u + r] = range;
+            ranges[c * ROWS + r] = range;
         }
     }
 }

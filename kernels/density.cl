@@ -32,18 +32,12 @@ typedef struct {
         (st).rho = (self).rho;                                               \
         (st).fluid = (ids[i] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;       \
     } while (0)
-// (m W, m / rho_j W): the density and the kernel's completeness.
-inline float4 density_terms(const SphParams* sp, const float rho_j, const float r2) {
-    const float w = kernel_w(sp, sqrt(r2));
-    return (float4)(sp->mass * w, sp->mass / rho_j * w, 0.0f, 0.0f);
-}
-#define TERMS(self, nb, rij, r2) density_terms(&sp, (nb).rho, (r2))
-#define STATE_ADD(st, t)   \
-    do {                   \
-        (st).mw += (t).x;  \
-        (st).vw += (t).y;  \
+#define PAIR(st, self, nb, i, j, rij, r2)                     \
+    do {                                                      \
+        const float w = kernel_w(&sp, sqrt(r2));              \
+        (st).mw += sp.mass * w;                               \
+        (st).vw += sp.mass / (nb).rho * w;                    \
     } while (0)
-#define PAIR(st, self, nb, i, j, rij, r2) STATE_ADD(st, TERMS(self, nb, rij, r2))
 #define STATE_STORE(st, i) \
     rho_out[i] = !(st).fluid ? (st).rho : ((st).vw < 0.95f ? fmax((st).mw, sp.rho0) : (st).mw)
 

@@ -21,12 +21,13 @@
 typedef struct {
     float4 pos;
     float4 velrho;
-    float p;     // Tait pressure of velrho.w, computed once per loaded neighbour
     uint fluid;
 } ForceNeighbour;
 
 typedef struct {
-    float4 sum;  // acceleration xyz (fluid i only) and drho/dt
+    float3 acc;
+    float drho;
+    float p, rho;
     uint fluid;
 } ForceState;
 
@@ -37,58 +38,61 @@ typedef struct {
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
         (nb).velrho = velrho[j];                                                \
-        (nb).p = pressure_of(&sp, (nb).velrho.w);                               \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
     } while (0)
 #define STATE_T ForceState
 #define STATE_INIT(st, i, self)                      \
     do {                                             \
-        (st).sum = (float4)(0.0f);                   \
+        (st).acc = (float3)(0.0f);                   \
+        (st).drho = 0.0f;                            \
+        (st).rho = (self).velrho.w;                  \
+        (st).p = pressure_of(&sp, (st).rho);         \
         (st).fluid = (self).fluid;                   \
     } while (0)
 
-// The terms of one pair (i, j) within the support: (acceleration of i, drho_i/dt).
-inline float4 force_terms(const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb, const float3 rij,
-                          const float r2) {
-    if (r2 <= 1e-18f) return (float4)(0.0f);  // the particle itself
+// Adds the terms of one pair (i, j) within the support to i's sums. The pressure of j is computed
+// only where it is used (fluid i): a third of the pairs at SPHERIC-2 belong to boundary particles.
+inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb,
+                       const float3 rij, const float r2) {
+    if (r2 <= 1e-18f) return;  // the particle itself
     const float r = sqrt(r2);
     const float f = kernel_f(sp, r);
     const float3 d = -rij;  // x_i - x_j
     const float3 vij = self->velrho.xyz - nb->velrho.xyz;
     const float vd = dot(vij, d);
-    const float rho_i = self->velrho.w, rho_j = nb->velrho.w;
+    const float rho_j = nb->velrho.w;
     const float m = sp->mass;
 #ifndef CLSPH_SUMMATION
-    float drho = m * vd * f;
+    st->drho += m * vd * f;
 #else
-    float drho = self->fluid ? 0.0f : m * vd * f;
+    if (!st->fluid) st->drho += m * vd * f;
 #endif
 #if CLSPH_DIFFUSION == 1
-    drho += sp->diffusion * 2.0f * (rho_j - rho_i) * (-f) * m / rho_j;
+    st->drho += sp->diffusion * 2.0f * (rho_j - st->rho) * (-f) * m / rho_j;
 #elif CLSPH_DIFFUSION == 2
-    if (self->fluid && nb->fluid) {
+    if (st->fluid && nb->fluid) {
         const float rho_h = sp->hydro * (sp->gx * rij.x + sp->gy * rij.y + sp->gz * rij.z);
-        drho += sp->diffusion * 2.0f * (rho_j - rho_i - rho_h) * (-f) * m / rho_j;
+        st->drho += sp->diffusion * 2.0f * (rho_j - st->rho - rho_h) * (-f) * m / rho_j;
     }
 #endif
-    float3 acc = (float3)(0.0f);
-    if (self->fluid) {
-        float coef = (self->p + nb->p) / (rho_i * rho_j);
+    if (st->fluid) {
+        const float p_j = pressure_of(sp, rho_j);
+        float coef = (st->p + p_j) / (st->rho * rho_j);
         if (nb->fluid && vd < 0.0f) {
             const float mu = sp->h * vd / (r2 + sp->eta2);
-            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (rho_i + rho_j));
+            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (st->rho + rho_j));
         }
-        acc = (-m * coef * f) * d;
+        st->acc += (-m * coef * f) * d;
     }
-    return (float4)(acc, drho);
 }
 
-#define TERMS(self, nb, rij, r2) force_terms(&sp, &(self), &(nb), (rij), (r2))
-#define STATE_ADD(st, t) (st).sum += (t)
-#define PAIR(st, self, nb, i, j, rij, r2) STATE_ADD(st, TERMS(self, nb, rij, r2))
-#define STATE_STORE(st, i)                                                                                     \
-    accel[i] = (st).fluid ? (float4)((st).sum.xyz + (float3)(sp.gx, sp.gy, sp.gz), (st).sum.w) \
-                          : (float4)(0.0f, 0.0f, 0.0f, (st).sum.w)
+#define PAIR(st, self, nb, i, j, rij, r2) force_pair(&(st), &sp, &(self), &(nb), (rij), (r2))
+#define STATE_STORE(st, i)                                                                      \
+    do {                                                                                        \
+        float4 out = (float4)(0.0f, 0.0f, 0.0f, (st).drho);                                     \
+        if ((st).fluid) out.xyz = (st).acc + (float3)(sp.gx, sp.gy, sp.gz);                     \
+        accel[i] = out;                                                                         \
+    } while (0)
 
 #ifdef CLSPH_LANES
 // The CPU form (neighbour_loop.h, lanes): force_pair for CLSPH_LANES particles i of one cell at

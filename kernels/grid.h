@@ -20,11 +20,24 @@
 #define A_OF(v) COMP(v, AXIS_A)
 #define B_OF(v) COMP(v, AXIS_B)
 
+// Cells along the a and b axes may be a fraction 1/CLSPH_REACH of the support (the host's
+// Grid::reach(), given as -D): a particle's neighbours then lie within CLSPH_REACH cells along a and
+// b (one along s, whose cells stay a whole support: slabs and halos are whole columns). A cell's
+// neighbour rows are (s + ds, a + da) for ds in -1..1 and da in -REACH..REACH, each the cells
+// b - REACH .. b + REACH: consecutive keys, since b is padded by REACH empty cells at each end.
+#ifndef CLSPH_REACH
+#define CLSPH_REACH 1
+#endif
+#define ROWS_A (2u * CLSPH_REACH + 1u)
+#define ROWS (3u * ROWS_A)
+inline int row_ds(const uint r) { return (int)(r / ROWS_A) - 1; }
+inline int row_da(const uint r) { return (int)(r % ROWS_A) - CLSPH_REACH; }
+
 inline uint key_s(const GridParams g, uint key) { return g.shift_s >= 32u ? 0u : key >> g.shift_s; }
 inline uint key_a(const GridParams g, uint key) { return (key >> g.shift_a) & g.mask_a; }
-inline uint key_b(const GridParams g, uint key) { return (key & g.mask_b) - 1u; }
+inline uint key_b(const GridParams g, uint key) { return (key & g.mask_b) - CLSPH_REACH; }
 inline uint make_key(const GridParams g, uint s, uint a, uint b) {
-    return (g.shift_s >= 32u ? 0u : (s << g.shift_s)) | (a << g.shift_a) | (b + 1u);
+    return (g.shift_s >= 32u ? 0u : (s << g.shift_s)) | (a << g.shift_a) | (b + CLSPH_REACH);
 }
 
 // First index in sorted keys[0..n) whose key is >= want (cell tables, slab edges, probes).
@@ -49,8 +62,8 @@ inline float3 relative_position(const GridParams g, const uint key_i, const floa
     int da = (int)key_a(g, key_j) - (int)key_a(g, key_i);
     const int db = (int)key_b(g, key_j) - (int)key_b(g, key_i);
     if (g.periodic_a) {  // minimum image across the wrap
-        if (da > 1) da -= (int)g.n_a;
-        if (da < -1) da += (int)g.n_a;
+        if (da > CLSPH_REACH) da -= (int)g.n_a;
+        if (da < -CLSPH_REACH) da += (int)g.n_a;
     }
     float3 cell_delta;
     COMP(cell_delta, AXIS_S) = (float)ds * g.cell_s;

@@ -1,12 +1,13 @@
 // Measurement kernels for clsph-bench-interaction (not used by the simulation).
-//   distance_only: the neighbour loop (fine or masked, -DCLSPH_MASKED) with no pair terms: what
+//   distance_only: the fine neighbour loop with no pair terms: what
 //                  the candidate tests alone cost; writes each particle's hit count.
 //   warp_counts  : what a warp of 32 consecutive work-items executes in the fine and masked schemes,
 //                  emulated in lockstep with local atomics (NVIDIA's OpenCL has no subgroups):
 //                  out[0] candidates tested, out[1] hits (pairs inside the support, self included),
 //                  out[2] fine: candidate steps at which some lane of the warp hits (the warp runs
-//                  the pair terms at each), out[3] masked: per batch of 32 candidate steps, the
-//                  largest number of hits of one lane (the warp runs the pair terms that often).
+//                  the pair terms at each), out[3] masked (distances of 32 candidates into a bit
+//                  mask, then only the hits' terms: a form measured slower than fine on the H200
+//                  and removed, BENCHMARKS.md): per batch of 32 steps, the busiest lane's hits.
 //                  One uint4 of these per work-group (summed on the host).
 #include "grid.h"
 
@@ -47,9 +48,9 @@ __kernel __attribute__((reqd_work_group_size(32, 1, 1))) void warp_counts(
         c = cell_of[i];
     }
     uint candidates = 0u, hits = 0u;
-    for (uint r = 0; r < 9u; ++r) {
+    for (uint r = 0; r < ROWS; ++r) {
         uint2 range = (uint2)(0u, 0u);
-        if (active) range = ranges[c * 9u + r];
+        if (active) range = ranges[c * ROWS + r];
         const uint len = range.y > range.x ? range.y - range.x : 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
         if (lid == 0u) row_len = 0u;

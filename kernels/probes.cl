@@ -17,17 +17,17 @@ __kernel void probe_points(const uint points, const uint cells, const GridParams
     if (key != g.invalid_key) {
         const int s = (int)key_s(g, key), a = (int)key_a(g, key);
         const uint b = key_b(g, key);
-        for (int ds = -1; ds <= 1; ++ds)
-            for (int da = -1; da <= 1; ++da) {
-                int s2 = s + ds, a2 = a + da;
+        for (uint r = 0; r < ROWS; ++r) {
+            {
+                int s2 = s + row_ds(r), a2 = a + row_da(r);
                 if (g.periodic_a) {
                     if (a2 < 0) a2 += (int)g.n_a;
                     if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
                 }
                 if (s2 < 0 || s2 >= (int)g.n_s || a2 < 0 || a2 >= (int)g.n_a) continue;
                 const uint mid = make_key(g, (uint)s2, (uint)a2, b);
-                const uint begin = cell_start[lower_bound_key(cell_key, cells, mid - 1u)];
-                const uint end = cell_start[lower_bound_key(cell_key, cells, mid + 2u)];
+                const uint begin = cell_start[lower_bound_key(cell_key, cells, mid - CLSPH_REACH)];
+                const uint end = cell_start[lower_bound_key(cell_key, cells, mid + CLSPH_REACH + 1u)];
                 for (uint j = begin; j < end; ++j) {
                     if ((ids[j] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) continue;
                     const float4 pj = pos[j];
@@ -39,6 +39,7 @@ __kernel void probe_points(const uint points, const uint cells, const GridParams
                     sums += (float2)(vw, vw * pressure_of(&sp, rho));
                 }
             }
+        }
     }
     out[q] = sums;
 }

@@ -42,9 +42,9 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_flag("--dry-run", a.dry_run, "print particle counts, memory per device, first time step and output size, then exit");
     run.add_flag("--force", a.force, "overwrite the run files in an existing output directory");
     run.add_option("--interaction", a.interaction,
-                   "interaction form on every device: auto (masked on GPUs, lanes on CPUs), fine, masked, lanes, coarse "
+                   "interaction form on every device: auto (lanes on CPUs, fine elsewhere), fine, lanes, coarse "
                    "(default: the scene's run.interaction)")
-        ->check(CLI::IsMember({"auto", "fine", "masked", "tiled", "lanes", "coarse"}))
+        ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse"}))
         ->type_name("NAME");
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))

@@ -32,7 +32,8 @@ struct Simulation::Impl {
     Impl(const Scene& s, const Options& o)
         : scene(s),
           options(o),
-          grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis, s.domain.periodic) {}
+          grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis, s.domain.periodic,
+               device::reach_for(s.physics.support(), s.physics.dp)) {}
 
     double next_dt(const device::KickResult& k) const {
         if (scene.run.fixed_dt > 0) return scene.run.fixed_dt;

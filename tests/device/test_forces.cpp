@@ -128,13 +128,16 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         KernelType kernel;
         DensityMode density;
         double hdp;  // 1.5: cells of 27 lattice sites; 2.2: of ~85, so cells take several 32-particle chunks
+        int reach;   // the grid's reach (1: cells of a support; 2: half a support along a and b)
     };
-    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5},
-                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5},
-                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity, 1.5},
-                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation, 1.5},
-                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2},
-                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2}};
+    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1},
+                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5, 1},
+                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1},
+                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation, 1.5, 1},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 1},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2, 1},
+                              {Diffusion::fourtakas, 0.5, KernelType::cubic_spline, DensityMode::continuity, 2.2, 2},
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs)
@@ -142,7 +145,8 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 CAPTURE(static_cast<int>(c.diffusion));
                 CAPTURE(c.alpha);
                 CAPTURE(c.hdp);
-                CAPTURE(interaction_name(form));
+                CAPTURE(c.reach);
+                CAPTURE(std::string(interaction_name(form)));
                 CAPTURE(static_cast<int>(c.density));
                 Scene s;
                 s.physics.dp = 0.01;
@@ -156,7 +160,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 s.domain.max = {0.3, 0.3, 0.3};
                 auto gen = test::rng(300);
                 const Particles in = random_block(gen, s.physics.dp);
-                Grid grid(Box{s.domain.min, s.domain.max}, s.physics.support());
+                Grid grid(Box{s.domain.min, s.domain.max}, s.physics.support(), -1, {false, false, false}, c.reach);
                 ParticleStore ps(*d, grid, in.size());
                 ps.upload(in);
                 CellPipeline cells(*d, grid);

@@ -8,15 +8,13 @@
 namespace clsph {
 
 enum class Interaction {
-    automatic,  // per device type: masked on GPUs and other devices, lanes on CPUs
+    automatic,  // per device type: lanes on CPUs, fine everywhere else
     fine,       // a work-item per particle, every candidate tested and summed in turn
-    masked,     // a work-item per particle; distances of 32 candidates first, then the hits' terms
-    tiled,      // 32 particles of a cell per work-group, candidates in local memory, hits shared out evenly
     lanes,      // a work-item per cell, its particles in 8 or 16 vector lanes (the CPU form)
     coarse,     // a work-group per cell, neighbour rows staged in local memory (the paper's scheme)
 };
 
-// "auto", "fine", "masked", "tiled", "lanes", "coarse".
+// "auto", "fine", "lanes", "coarse".
 const char* interaction_name(Interaction form);
 // The inverse; throws clsph::Error listing the names for anything else.
 Interaction interaction_from_name(const std::string& name);

@@ -26,6 +26,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     q.fake_event_timestamps = rusticl;
     q.kernel_work_group_size_understated = rusticl;
     q.late_transfer_callbacks = nvidia;
+    if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).
     const std::size_t reported = static_cast<std::size_t>(info.local_memory);

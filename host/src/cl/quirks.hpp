@@ -37,6 +37,13 @@ struct Quirks {
     // (36.95 vs 48.82 ms/step; BENCHMARKS.md). Where set, EventSet polls the events' status with
     // short sleeps instead (clWaitForEvents is on time too, but spins a core).
     bool late_transfer_callbacks = false;
+
+    // --- found while speeding up the interaction pass (issue 12) ---
+    // Build options for the interaction kernels only. NVIDIA (driver 580.159.04, H200): capping the
+    // force kernel at 48 registers (-cl-nv-maxrregcount, an NVIDIA-only option) took SPHERIC-2's
+    // force pass at dp 0.006 from 9.11 to 8.84 ms (32: 13.8, 40: 12.7, 64: 13.0, 96: 12.7 ms at
+    // reach 1; clsph-bench-interaction, BENCHMARKS.md). Elsewhere empty: the portable path.
+    const char* interaction_options = "";
 };
 
 Quirks quirks_for(const DeviceInfo& info);

@@ -44,7 +44,7 @@ void CellPipeline::reserve_cells(std::size_t k) {
     ranges_ = cl_rt::Buffer();
     cell_key_ = device_.alloc(cap * sizeof(cl_uint), "cell keys");
     cell_start_ = device_.alloc((cap + 1) * sizeof(cl_uint), "cell starts");
-    ranges_ = device_.alloc(cap * 9 * 2 * sizeof(cl_uint), "neighbour ranges");
+    ranges_ = device_.alloc(cap * grid_.rows() * 2 * sizeof(cl_uint), "neighbour ranges");
     cell_capacity_ = cap;
 }
 

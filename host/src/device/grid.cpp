@@ -15,8 +15,11 @@ unsigned bits_for(std::uint64_t count) {  // bits needed to hold values 0..count
 const char* axis_name(int a) { return a == 0 ? "x" : a == 1 ? "y" : "z"; }
 }  // namespace
 
-Grid::Grid(const Box& domain, double support, int split_axis, std::array<bool, 3> periodic)
-    : domain_(domain), periodic_(periodic) {
+int reach_for(double support, double dp) { return support >= 3.5 * dp ? 2 : 1; }
+
+Grid::Grid(const Box& domain, double support, int split_axis, std::array<bool, 3> periodic, int reach)
+    : domain_(domain), periodic_(periodic), reach_(reach) {
+    if (reach < 1 || reach > 2) throw SceneError("grid: reach must be 1 or 2");
     if (!(support > 0) || !std::isfinite(support)) throw SceneError("grid: kernel support must be positive");
     std::array<double, 3> ext{};
     for (int k = 0; k < 3; ++k) {
@@ -49,15 +52,16 @@ Grid::Grid(const Box& domain, double support, int split_axis, std::array<bool, 3
     for (int pos = 0; pos < 3; ++pos) {
         const int k = axis_[pos];
         // Non-periodic: floor + 1 so the domain is closed (a particle exactly on the max face is inside).
-        const double cells = periodic[k] ? std::floor(ext[k] / support) : std::floor(ext[k] / support) + 1.0;
+        const double edge = pos == 0 ? support : support / reach;  // s keeps whole supports
+        const double cells = periodic[k] ? std::floor(ext[k] / edge) : std::floor(ext[k] / edge) + 1.0;
         if (cells > 1e9) throw SceneError("domain: far too many cells along " + std::string(axis_name(k)));
         n[pos] = static_cast<std::uint32_t>(std::max(1.0, cells));
-        cell[pos] = periodic[k] ? ext[k] / n[pos] : support;
-        if (periodic[k] && n[pos] < 3)
+        cell[pos] = periodic[k] ? ext[k] / n[pos] : edge;
+        if (periodic[k] && n[pos] < static_cast<std::uint32_t>(2 * reach + 1))
             throw SceneError(std::string("domain: periodic axis ") + axis_name(k) +
                              " must be at least 3 kernel supports long");
     }
-    const unsigned bb = bits_for(std::uint64_t{n[2]} + 2), ba = bits_for(n[1]), bs = bits_for(n[0]);
+    const unsigned bb = bits_for(std::uint64_t{n[2]} + 2 * reach), ba = bits_for(n[1]), bs = bits_for(n[0]);
     key_bits_ = std::max(1u, bb + ba + bs);
     if (key_bits_ > 32) {
         std::ostringstream o;
@@ -95,11 +99,12 @@ std::array<double, 3> Grid::cell_size_xyz() const {
 
 std::uint32_t Grid::key(std::uint32_t s, std::uint32_t a, std::uint32_t b) const {
     const std::uint32_t high = p_.shift_s >= 32 ? 0u : (s << p_.shift_s);  // n_s == 1 uses no bits
-    return high | (a << p_.shift_a) | (b + 1u);
+    return high | (a << p_.shift_a) | (b + static_cast<std::uint32_t>(reach_));
 }
 
 std::array<std::uint32_t, 3> Grid::cell_of_key(std::uint32_t k) const {
-    return {p_.shift_s >= 32 ? 0u : k >> p_.shift_s, (k >> p_.shift_a) & p_.mask_a, (k & p_.mask_b) - 1u};
+    return {p_.shift_s >= 32 ? 0u : k >> p_.shift_s, (k >> p_.shift_a) & p_.mask_a,
+            (k & p_.mask_b) - static_cast<std::uint32_t>(reach_)};
 }
 
 std::uint32_t Grid::locate(const std::array<double, 3>& x, std::array<float, 3>& offset) const {
@@ -138,7 +143,7 @@ std::array<double, 3> Grid::position(std::uint32_t k, const std::array<float, 3>
 
 std::string Grid::kernel_options() const {
     return "-DAXIS_S=" + std::to_string(axis_[0]) + " -DAXIS_A=" + std::to_string(axis_[1]) +
-           " -DAXIS_B=" + std::to_string(axis_[2]);
+           " -DAXIS_B=" + std::to_string(axis_[2]) + " -DCLSPH_REACH=" + std::to_string(reach_);
 }
 
 }  // namespace clsph::device

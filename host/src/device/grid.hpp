@@ -24,7 +24,10 @@ public:
     // longest axis. periodic[k] makes axis k wrap; only one non-split axis may be periodic, its
     // extent must hold at least 3 cells, and its cells are stretched to divide it exactly.
     // Throws SceneError when the domain needs more cells than 32-bit keys can name.
-    Grid(const Box& domain, double support, int split_axis = -1, std::array<bool, 3> periodic = {false, false, false});
+    // reach: cells along the a and b axes are support / reach (1 or 2; s keeps whole supports), so
+    // the neighbour rows cover less volume around a particle (reach 2: 150 support^3/8 instead of 216).
+    Grid(const Box& domain, double support, int split_axis = -1, std::array<bool, 3> periodic = {false, false, false},
+         int reach = 1);
 
     const GridParams& params() const { return p_; }
     const Box& domain() const { return domain_; }
@@ -32,6 +35,9 @@ public:
     int axis(int key_position) const { return axis_[key_position]; }
     std::array<int, 3> axes() const { return axis_; }
     unsigned key_bits() const { return key_bits_; }
+    int reach() const { return reach_; }
+    // Neighbour rows per cell (the cell tables hold this many ranges per cell): 3 (2 reach + 1).
+    std::size_t rows() const { return 3 * static_cast<std::size_t>(2 * reach_ + 1); }
     std::uint64_t cell_count() const;
     std::array<double, 3> cell_size_xyz() const;
     bool periodic(int xyz) const { return periodic_[xyz]; }
@@ -55,6 +61,12 @@ private:
     std::array<int, 3> axis_{0, 1, 2};
     std::array<bool, 3> periodic_{false, false, false};
     unsigned key_bits_ = 0;
+    int reach_ = 1;
 };
+
+// The reach a scene's grid should have: 2 where cells of support x support/2 x support/2 still hold
+// enough particles to fill a warp's worth of work (support >= 3.5 dp, 10+ per cell), else 1.
+// Measured on SPHERIC-2 (hdp 2, support 4 dp; BENCHMARKS.md).
+int reach_for(double support, double dp);
 
 }  // namespace clsph::device

@@ -11,8 +11,6 @@ struct Named {
 };
 constexpr Named kNames[] = {{Interaction::automatic, "auto"},
                             {Interaction::fine, "fine"},
-                            {Interaction::masked, "masked"},
-                            {Interaction::tiled, "tiled"},
                             {Interaction::lanes, "lanes"},
                             {Interaction::coarse, "coarse"}};
 }  // namespace
@@ -33,7 +31,7 @@ Interaction interaction_from_name(const std::string& name) {
 }
 
 std::vector<Interaction> interaction_forms() {
-    return {Interaction::fine, Interaction::masked, Interaction::tiled, Interaction::lanes, Interaction::coarse};
+    return {Interaction::fine, Interaction::lanes, Interaction::coarse};
 }
 
 }  // namespace clsph

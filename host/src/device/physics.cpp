@@ -38,16 +38,14 @@ SphParams make_sph_params(const Scene& scene) {
 
 Interaction interaction_for(Interaction requested, const DeviceInfo& device) {
     if (requested != Interaction::automatic) return requested;
-    return device.is_cpu() ? Interaction::lanes : Interaction::masked;
+    return device.is_cpu() ? Interaction::lanes : Interaction::fine;
 }
 
 namespace {
-// Vector lanes of the CPU form: 16 floats fill an AVX-512 register, 8 an AVX2 one (pocl splits wider
-// vectors into what the CPU has).
-std::size_t lanes_width(const cl_rt::Device&) {
-    if (const char* v = std::getenv("CLSPH_LANES_WIDTH")) return std::strtoul(v, nullptr, 10);
-    return 8;
-}
+// Vector lanes of the CPU form. 16 floats fill an AVX-512 register (CPUs with only AVX2 run them as
+// two); on the 2-core EPYC development machine, SPHERIC-2 at dp 0.02: 16 lanes 44 ms, 8 lanes 64 ms
+// per force pass (pocl pthread; BENCHMARKS.md).
+constexpr std::size_t kLanes = 16;
 }  // namespace
 
 Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, Interaction form)
@@ -66,20 +64,14 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     std::string interaction = opts + " -DCLSPH_DIFFUSION=" + std::to_string(diffusion);
     if (summation_) interaction += " -DCLSPH_SUMMATION";
     switch (form_) {
-    case Interaction::masked: interaction += " -DCLSPH_MASKED"; break;
-    case Interaction::tiled: interaction += " -DCLSPH_TILED"; break;
-    case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(lanes_width(device)); break;
+    case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
     default: break;
     }
-    if (const char* extra = std::getenv("CLSPH_INTERACTION_DEFINES")) interaction += std::string(" ") + extra;  // measurements
+    if (*device.quirks().interaction_options) interaction += std::string(" ") + device.quirks().interaction_options;
     forces_k_ = device.kernel("forces.cl", "forces", interaction);
     if (summation_) density_k_ = device.kernel("density.cl", "summation_density", interaction);
     const std::string integ = opts + " -DWG=" + std::to_string(wg_);
-    if (form_ == Interaction::tiled) {
-        chunk_k_ = device.kernel("interaction_chunks.cl", "chunk_counts", "");
-        chunk_scan_ = std::make_unique<Scan>(device, Scan::Config{0, 0, "sph.chunks.scan"});
-    }
     commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
     kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
     kick_k_ = device.kernel("integrate.cl", "kick", integ);
@@ -108,34 +100,15 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     const std::size_t n = ps.ranges.owned;
     if (n == 0) return;
     const auto g = grid_.params();
-    if (form_ == Interaction::tiled) {
-        const std::size_t k = cells.cells();
-        if (chunk_start_.bytes() < (k + 1) * sizeof(cl_uint)) {
-            chunk_counts_ = device_.alloc((k + 1) * 5 / 4 * sizeof(cl_uint), "interaction chunk counts");
-            chunk_start_ = device_.alloc((k + 1) * 5 / 4 * sizeof(cl_uint), "interaction chunk starts");
-        }
-        chunk_k_.setArg(0, static_cast<cl_uint>(k));
-        chunk_k_.setArg(1, static_cast<cl_uint>(ps.ranges.first_owned()));
-        chunk_k_.setArg(2, static_cast<cl_uint>(ps.ranges.end_owned()));
-        chunk_k_.setArg(3, cells.cell_start().get());
-        chunk_k_.setArg(4, chunk_counts_.get());
-        device_.launch("sph.chunks", chunk_k_, k, wg_);
-        chunk_scan_->exclusive(chunk_counts_, chunk_start_, k);
-    }
     auto launch = [&](const char* name, cl::Kernel& k) {
-        if (form_ == Interaction::tiled) {
-            // An upper bound on the chunks (each cell adds at most one partial chunk): no read back.
-            k.setArg(11, chunk_start_.get());
-            k.setArg(12, static_cast<cl_uint>(cells.cells()));
-            device_.launch(name, k, (n / 32 + cells.cells() + 1) * 32, 32);
-        } else if (form_ == Interaction::coarse)
+        if (form_ == Interaction::coarse)
             device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
         else if (form_ == Interaction::lanes)
             device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
         else
             device_.launch(name, k, n, wg_);
     };
-    const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes || form_ == Interaction::tiled;
+    const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
     if (summation_) {
         set_loop_args(density_k_, ps, cells, g, sp_, per_cell);
         density_k_.setArg(8, ps.velrho.get());

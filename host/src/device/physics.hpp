@@ -8,7 +8,6 @@
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
-#include "device/primitives.hpp"
 
 #include <array>
 #include <memory>
@@ -19,7 +18,7 @@ namespace clsph::device {
 SphParams make_sph_params(const Scene& scene);
 
 // The form a device runs when asked for `requested`: automatic becomes lanes on CPU devices (their
-// OpenCL compilers do not vectorise a work-item per particle) and masked elsewhere; the rest stay.
+// OpenCL compilers do not vectorise a work-item per particle) and fine elsewhere; the rest stay.
 Interaction interaction_for(Interaction requested, const DeviceInfo& device);
 
 struct KickResult {
@@ -58,10 +57,6 @@ private:
     bool summation_;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
-    // The tiled form's work list: chunks of at most 32 particles per cell (kernels/interaction_chunks.cl).
-    cl::Kernel chunk_k_;
-    std::unique_ptr<Scan> chunk_scan_;
-    cl_rt::Buffer chunk_counts_, chunk_start_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;

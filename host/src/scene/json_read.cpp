@@ -178,7 +178,7 @@ RunControl read_run(const Json& v) {
     r.output_every = f.number("output_every", r.output_every);
     r.probe_every = f.integer("probe_every", r.probe_every);
     r.interaction = f.choice("interaction", r.interaction,
-                             {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, {"masked", Interaction::masked}, {"tiled", Interaction::tiled},
+                             {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, 
                               {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse}});
     return r;
 }
