@@ -22,6 +22,9 @@ struct Seams {
     // `fail_at_step` starts (0: never), to exercise the mid-run error path.
     std::uint64_t fail_at_step = 0;
     std::size_t fail_device = 0;
+    // Every exchange sends from whole slabs and merges with one sort, the path a particle that
+    // jumped more than a column takes (the CFL limit rules that out, so tests force it here).
+    bool wide_exchange = false;
     // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };

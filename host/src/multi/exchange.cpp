@@ -5,8 +5,13 @@
 namespace clsph::multi {
 
 Exchange::Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
-                   cl_rt::EventSet::Mode wait, PhaseTotals& phases)
-    : partition_(partition), slabs_(slabs), for_each_device_(std::move(for_each_device)), wait_(wait), phases_(phases) {}
+                   cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide)
+    : partition_(partition),
+      slabs_(slabs),
+      for_each_device_(std::move(for_each_device)),
+      wait_(wait),
+      phases_(phases),
+      always_wide_(always_wide) {}
 
 Link& Exchange::link(std::size_t from, std::size_t to) {
     auto& l = links_[{from, to}];
@@ -46,7 +51,7 @@ std::size_t Exchange::run(const PerDevice& then) {
         removed += s.cells->settled().left_domain;
         jumped += s.cells->settled().jumped;
     }
-    if (jumped > 0 && D > 1) {  // the windows may miss a particle: send from whole slabs
+    if ((jumped > 0 || always_wide_) && D > 1) {  // the windows may miss a particle: send from whole slabs
         blocks.clear();
         std::fill(presorted.begin(), presorted.end(), 0);
         settle_and_gather(true, blocks, presorted);

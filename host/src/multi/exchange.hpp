@@ -40,7 +40,7 @@ using ForEachDevice = std::function<void(const PerDevice&)>;
 class Exchange {
 public:
     Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
-             cl_rt::EventSet::Mode wait, PhaseTotals& phases);
+             cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide = false);
     // Once, after the first upload: each device sorts what it was given and finds its column
     // positions. Returns the particles removed (outside the domain).
     std::size_t sort_uploaded();
@@ -67,6 +67,7 @@ private:
     ForEachDevice for_each_device_;
     cl_rt::EventSet::Mode wait_;
     PhaseTotals& phases_;
+    bool always_wide_;  // tests: the jump path every step
     std::vector<Need> need_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
 };

@@ -35,7 +35,7 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
     const auto parts = partition_.split(p, census, slabs_);
     for (std::size_t d = 0; d < D; ++d) slabs_[d].store->upload(parts[d]);
     exchange_ = std::make_unique<Exchange>(partition_, slabs_, [this](const PerDevice& w) { for_each_device(w); },
-                                           options.wait, phases_);
+                                           options.wait, phases_, options.seams.wide_exchange);
     removed_at_upload_ = exchange_->sort_uploaded();
     if (!options.balance_log.empty()) {
         log_file_ = std::make_unique<std::ofstream>(options.balance_log);
