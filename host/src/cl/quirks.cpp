@@ -26,6 +26,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     q.fake_event_timestamps = rusticl;
     q.blocking_wait_spins = nvidia;
     q.kernel_work_group_size_understated = rusticl;
+    q.vectorises_work_items = rusticl;
     q.shared_context_copies_stall = nvidia;
     q.late_transfer_callbacks = nvidia;
     if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
