@@ -55,6 +55,11 @@ typedef struct {
 inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour* self, const ForceNeighbour* nb,
                        const float3 rij, const float r2) {
     if (r2 <= 1e-18f) return;  // the particle itself
+#if CLSPH_DIFFUSION != 1
+    // Two boundary particles: both at rest (DBC walls do not move), so v_ij = 0 and every term is
+    // zero; without Molteni-Colagrossi diffusion (which compares their densities) nothing to add.
+    if (!st->fluid && !nb->fluid) return;
+#endif
     const float r = sqrt(r2);
     const float f = kernel_f(sp, r);
     const float3 d = -rij;  // x_i - x_j

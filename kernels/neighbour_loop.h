@@ -121,6 +121,9 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
         float3 row_offset = -self.pos.xyz;
         COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
         COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
+        // Unrolled by 4: H200 force pass 8.84 -> 8.37 ms (the pair terms of one candidate overlap
+        // the next candidates' loads); the distance tests alone do not change (BENCHMARKS.md).
+#pragma unroll 4
         for (uint j = range.x; j < range.y; ++j) {
             const float4 pj = pos[j];
             float3 rij = pj.xyz + row_offset;

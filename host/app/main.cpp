@@ -42,7 +42,7 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_flag("--dry-run", a.dry_run, "print particle counts, memory per device, first time step and output size, then exit");
     run.add_flag("--force", a.force, "overwrite the run files in an existing output directory");
     run.add_option("--interaction", a.interaction,
-                   "interaction form on every device: auto (lanes on CPUs, fine elsewhere), fine, lanes, coarse "
+                   "interaction form on every device: auto (lanes on pocl CPUs, fine on GPUs and rusticl), fine, lanes, coarse "
                    "(default: the scene's run.interaction)")
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse"}))
         ->type_name("NAME");

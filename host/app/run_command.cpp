@@ -135,7 +135,11 @@ public:
                                       "), interaction " + interaction_name(d.interaction));
         }
         print_summary(std::cout, totals_);
-        if (args_.profile && code != exit_device_failed) print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
+        if (args_.profile && code != exit_device_failed) {
+            print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
+            for (const auto& d : sim_.shares())  // which form the sph.forces (and sph.density) rows ran
+                std::cout << "  interaction form on " << d.device << ": " << interaction_name(d.interaction) << '\n';
+        }
         if (failed) {
             std::cout.flush();  // the error is the last thing said
             std::cerr << "clsph: error: " << message << "\nclsph: the last good state is in " << plan_.out_dir

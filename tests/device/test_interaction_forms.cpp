@@ -2,6 +2,7 @@
 // device: the same particles after a few steps of a small dam break, within round-off. The scene
 // has a support of 4 dp, so the grid runs at reach 2 (cells of half a support along a and b).
 #include "clsph/simulation.hpp"
+#include "device/physics.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -85,5 +86,17 @@ TEST_CASE("every interaction form, on one device and on three, follows the fine 
             CHECK(worst < 1e-6);  // m: round-off, not a different physics (2e-9 m seen on pocl and rusticl)
             CHECK(worst_v < 1e-4);
         }
+}
+}
+
+TEST_SUITE("physics") {
+TEST_CASE("the automatic interaction form: lanes on pocl CPUs, fine on GPUs and rusticl") {
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        const bool pocl_cpu = d->info().is_cpu() && d->info().platform.find("Portable Computing Language") != std::string::npos;
+        const Interaction expected = pocl_cpu ? Interaction::lanes : Interaction::fine;
+        CHECK(device::interaction_for(Interaction::automatic, *d) == expected);
+        for (const Interaction form : interaction_forms()) CHECK(device::interaction_for(form, *d) == form);
+    }
 }
 }

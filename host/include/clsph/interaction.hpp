@@ -8,7 +8,7 @@
 namespace clsph {
 
 enum class Interaction {
-    automatic,  // per device type: lanes on CPUs, fine everywhere else
+    automatic,  // per device: lanes on CPUs through pocl, fine on GPUs and Mesa rusticl
     fine,       // a work-item per particle, every candidate tested and summed in turn
     lanes,      // a work-item per cell, its particles in 8 or 16 vector lanes (the CPU form)
     coarse,     // a work-group per cell, neighbour rows staged in local memory (the paper's scheme)

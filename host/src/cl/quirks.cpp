@@ -25,6 +25,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     // reliably, so all rusticl devices are host-timed (the cost is a queue.finish per timed launch).
     q.fake_event_timestamps = rusticl;
     q.kernel_work_group_size_understated = rusticl;
+    q.vectorises_work_items = rusticl;
     q.late_transfer_callbacks = nvidia;
     if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel

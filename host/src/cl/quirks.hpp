@@ -44,6 +44,11 @@ struct Quirks {
     // force pass at dp 0.006 from 9.11 to 8.84 ms (32: 13.8, 40: 12.7, 64: 13.0, 96: 12.7 ms at
     // reach 1; clsph-bench-interaction, BENCHMARKS.md). Elsewhere empty: the portable path.
     const char* interaction_options = "";
+    // Mesa rusticl 22.3 (llvmpipe) runs work-items in SIMD lanes itself, so the CPU form (a
+    // work-item per cell, vector lanes inside it) gains nothing there: SPHERIC-2 at dp 0.02, force
+    // pass 1417 ms for lanes against 1275 ms for fine (pocl pthread: lanes 34 ms, fine 1220 ms;
+    // clsph-bench-interaction, BENCHMARKS.md). Where set, the automatic choice on a CPU is fine.
+    bool vectorises_work_items = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);

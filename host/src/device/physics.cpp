@@ -36,9 +36,9 @@ SphParams make_sph_params(const Scene& scene) {
     return sp;
 }
 
-Interaction interaction_for(Interaction requested, const DeviceInfo& device) {
+Interaction interaction_for(Interaction requested, const cl_rt::Device& device) {
     if (requested != Interaction::automatic) return requested;
-    return device.is_cpu() ? Interaction::lanes : Interaction::fine;
+    return device.info().is_cpu() && !device.quirks().vectorises_work_items ? Interaction::lanes : Interaction::fine;
 }
 
 namespace {
@@ -52,7 +52,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     : device_(device),
       grid_(grid),
       sp_(make_sph_params(scene)),
-      form_(interaction_for(form, device.info())),
+      form_(interaction_for(form, device)),
       summation_(scene.physics.density == DensityMode::summation),
       wg_(device.work_group_size(128)),
       coarse_wg_(device.work_group_size(64)) {

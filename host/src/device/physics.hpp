@@ -17,9 +17,10 @@ namespace clsph::device {
 
 SphParams make_sph_params(const Scene& scene);
 
-// The form a device runs when asked for `requested`: automatic becomes lanes on CPU devices (their
-// OpenCL compilers do not vectorise a work-item per particle) and fine elsewhere; the rest stay.
-Interaction interaction_for(Interaction requested, const DeviceInfo& device);
+// The form a device runs when asked for `requested`: automatic becomes lanes on CPU devices whose
+// compiler does not vectorise across work-items (pocl: "loop control flow is not understood by
+// vectorizer" on the fine loop) and fine elsewhere (GPUs, rusticl: cl/quirks.hpp); the rest stay.
+Interaction interaction_for(Interaction requested, const cl_rt::Device& device);
 
 struct KickResult {
     double max_speed2 = 0, max_accel2 = 0, kinetic_energy = 0;
