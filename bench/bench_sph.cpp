@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
         opts.devices = devices;
         opts.profile = true;
         opts.interaction = clsph::interaction_from_name(interaction);
-        opts.balance = balance;
+        opts.balance = clsph::balance_mode_from_name(balance);
         opts.balance_log = balance_log;
         opts.trace = !trace.empty();
         clsph::Simulation sim(scene, opts);

@@ -13,7 +13,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     opts.devices = args.devices;
     opts.profile = args.profile;
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
-    opts.balance = args.balance;
+    opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
     // Test hook (tests/cli): CLSPH_TEST_DEVICE_FAILURE=STEP[:DEVICE] simulates a device failing
     // when that step starts, to exercise the mid-run error path end to end.

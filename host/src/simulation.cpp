@@ -72,6 +72,13 @@ struct Simulation::Impl {
     double last_good_time = 0.0;
 };
 
+BalanceMode balance_mode_from_name(const std::string& name) {
+    if (name == "dynamic") return BalanceMode::dynamic;
+    if (name == "static") return BalanceMode::fixed;
+    if (name == "off") return BalanceMode::off;
+    throw Error("unknown balance mode '" + name + "' (use dynamic, static or off)");
+}
+
 Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::make_unique<Impl>(scene, options)) {
     auto& m = *impl_;
     const Particles p = scene.build_particles();
@@ -85,9 +92,9 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     }
     multi::DriverOptions dopt;
     dopt.interaction = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
-    const auto balance = balance::mode_from_string(options.balance);
-    if (!balance) throw Error("--balance: unknown mode '" + options.balance + "' (use dynamic, static or off)");
-    dopt.balance = *balance;
+    dopt.balance = options.balance == BalanceMode::dynamic ? balance::Mode::dynamic
+                   : options.balance == BalanceMode::fixed ? balance::Mode::static_
+                                                           : balance::Mode::off;
     dopt.balance_log = options.balance_log;
     dopt.headroom = options.capacity_headroom;
     using Mode = cl_rt::EventSet::Mode;

@@ -186,7 +186,7 @@ TEST_CASE("a particle next to a cut sees the neighbours it sees on one device") 
     Options one, two;
     one.devices = spec_of(1);
     two.devices = spec_of(2);
-    two.balance = "off";  // equal widths: the cut is in the middle of the fluid column's tank
+    two.balance = BalanceMode::off;  // equal widths: the cut is in the middle of the fluid column's tank
     Simulation a(scene, one), b(scene, two);
     a.step();
     b.step();

@@ -21,6 +21,13 @@ struct Seams;
 // always polling, or blocking in clWaitForEvents (on time everywhere, but it spins a core on NVIDIA).
 enum class WaitMode { callbacks, poll, block };
 
+// How the slab cuts between several devices are chosen (docs/balance.md): every step from the
+// devices' measured times (dynamic), once by equal work before the first step (fixed; `--balance
+// static`), or equal column widths that never move (off).
+enum class BalanceMode { dynamic, fixed, off };
+// "dynamic", "static", "off" (the --balance names) to the mode; throws clsph::Error otherwise.
+BalanceMode balance_mode_from_name(const std::string& name);
+
 struct Options {
     std::string devices;       // selection spec (clsph/devices.hpp); empty: $CLSPH_DEVICES or default
     bool profile = false;      // per-kernel times (profile())
@@ -29,7 +36,7 @@ struct Options {
     // defaults to a choice per device type.
     Interaction interaction = Interaction::automatic;
     double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
-    std::string balance = "dynamic";  // several devices: dynamic | static | off (equal widths)
+    BalanceMode balance = BalanceMode::dynamic;
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     WaitMode wait = WaitMode::callbacks;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
