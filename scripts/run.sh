@@ -17,17 +17,8 @@ echo
 
 out=out/dam_break
 args=(scenes/dam_break.json --out "$out" --force --csv)
-# The scene's full resolution (L/dp = 20, 17,615 particles, ~5,000 steps) takes 5 s on an NVIDIA
-# H200 but about 30 minutes on a 2-core CPU. Without a GPU the run is made coarser so the command ends in minutes: L/dp = 10
-# (the periodic slice widened to keep three kernel supports: 13 particles deep), and c0 = 10 sqrt(gH)
-# instead of 20 (half the steps; the front moves the same within a percent, BENCHMARKS.md).
-if ! "$clsph" devices --devices gpu >/dev/null 2>&1 && [ -z "${CLSPH_FULL:-}" ]; then
-  echo "clsph: no GPU found: running the dam break coarser (L/dp = 10, c0 = 10 sqrt(gH)) so it ends in minutes."
-  echo "       CLSPH_FULL=1 scripts/run.sh runs the scene as written."
-  args+=(--set physics.dp=0.0146 --set physics.coefsound=10
-    --set 'domain.max=[0.624,0.1898,0.45]' --set 'fluid[0].max=[0.146,0.1752,0.292]'
-    --set 'boundaries.walls[0].max=[0.584,0.1752,0.365]')
-fi
+# The scene as written (L/dp = 20, 17,615 particles, ~5,000 steps) takes 5 s on an NVIDIA H200 and
+# about 40 s on two CPU cores through pocl (the interaction pass's CPU form; BENCHMARKS.md).
 echo "+ clsph run ${args[*]} $*"
 "$clsph" run "${args[@]}" "$@"
 
