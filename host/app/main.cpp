@@ -75,6 +75,11 @@ int main(int argc, char** argv) {
             run_args.command_line.assign(argv, argv + argc);
             return clsph::app::run_command(run_args);
         }
+    } catch (const clsph::DeviceError& e) {
+        // A device (or its driver) failed while the run was being set up: nothing ran, so there is
+        // no output directory; the exit status is that of a device failure.
+        std::cerr << "clsph: error: " << e.what() << '\n';
+        return clsph::app::exit_device_failed;
     } catch (const clsph::Error& e) {
         std::cerr << "clsph: error: " << e.what() << '\n';
         return clsph::app::exit_error;

@@ -4,7 +4,6 @@
 #include <clsph/testing.hpp>
 
 #include <cstdlib>
-#include <sstream>
 
 namespace clsph::app {
 
@@ -15,18 +14,12 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
-    // Test hook (tests/cli): CLSPH_TEST_DEVICE_FAILURE=STEP[:DEVICE] simulates a device failing
-    // when that step starts, to exercise the mid-run error path end to end.
-    if (const char* v = std::getenv("CLSPH_TEST_DEVICE_FAILURE")) {
-        const std::string text = v;
-        std::size_t step = 0, device = 0;
-        char colon = 0;
-        std::istringstream in(text);
-        if (!(in >> step) || step == 0 || (in >> colon && (colon != ':' || !(in >> device))) || !in.eof())
-            throw Error("CLSPH_TEST_DEVICE_FAILURE: expected STEP or STEP:DEVICE (STEP >= 1), got '" + text + "'");
+    // Tests (tests/cli): CLSPH_TEST_FAULT=CALL:N[:DEVICE] makes the Nth OpenCL call of that kind
+    // (enqueue, allocation, read, build) on that device fail in the runtime layer, as a driver
+    // would fail it, so the whole error path runs as for a real failure (clsph/testing.hpp).
+    if (const char* v = std::getenv("CLSPH_TEST_FAULT")) {
         testing::Seams seams;
-        seams.fail_at_step = step;
-        seams.fail_device = device;
+        seams.faults.push_back(testing::parse_fault(v, "CLSPH_TEST_FAULT"));
         testing::set_seams(opts, std::move(seams));
     }
     try {

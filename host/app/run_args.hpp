@@ -32,6 +32,7 @@ enum ExitCode : int {
     exit_simulation_failed = 2, // the physics blew up; the last good state was written
     exit_device_failed = 3,     // a device failed mid-run; the last good state was written
     exit_interrupted = 130,     // Ctrl-C: stopped cleanly after a final frame (128 + SIGINT)
+    exit_terminated = 143,      // SIGTERM: the same as Ctrl-C (128 + SIGTERM)
 };
 
 }  // namespace clsph::app

@@ -18,6 +18,8 @@
 #include <unistd.h>  // isatty
 
 #include <chrono>
+#include <csignal>
+#include <sstream>
 #include <cmath>
 #include <iostream>
 
@@ -58,9 +60,6 @@ public:
         totals_.setup_seconds = setup_seconds;
         const auto start = clock::now();
         const std::uint64_t first_step = sim_.info().step;
-        record_.step(sim_.info());
-        sample_probes();
-        frames_.submit(sim_.time(), sim_.particles());
         std::uint64_t next_frame = 1;
         const double eps = 1e-9 * plan_.every;
 
@@ -77,19 +76,29 @@ public:
 
         totals_.outcome = "completed";
         int code = exit_ok;
-        std::string message;
+        std::string message, signal;
         try {
-            while (sim_.time() < plan_.until - eps) {
-                const double frame_time = static_cast<double>(next_frame) * plan_.every;
-                sim_.run_until(std::min(frame_time, plan_.until), on_step);
-                if (sim_.time() >= frame_time - eps) {
-                    frames_.submit(sim_.time(), sim_.particles());
-                    ++next_frame;
+            try {
+                record_.step(sim_.info());
+                sample_probes();
+                submit_frame();
+                while (sim_.time() < plan_.until - eps) {
+                    const double frame_time = static_cast<double>(next_frame) * plan_.every;
+                    sim_.run_until(std::min(frame_time, plan_.until), on_step);
+                    if (sim_.time() >= frame_time - eps) {
+                        submit_frame();
+                        ++next_frame;
+                    }
+                }
+            } catch (const StopRun& stop) {
+                totals_.outcome = stop.outcome;
+                if (totals_.outcome == "interrupted") {
+                    signal = signal_name(interrupt_signal());
+                    code = interrupt_signal() == SIGTERM ? exit_terminated : exit_interrupted;
                 }
             }
-        } catch (const StopRun& stop) {
-            totals_.outcome = stop.outcome;
-            if (totals_.outcome == "interrupted") code = exit_interrupted;
+            // A final frame where the run stopped off the frame grid (Ctrl-C, SIGTERM, --steps, --until).
+            if (frames_.last_time() < sim_.time() - eps) submit_frame();
         } catch (const SimulationError& e) {
             progress_.clear();
             totals_.outcome = "failed";
@@ -100,7 +109,7 @@ public:
             // A device failed mid-run (lost, out of resources): its state is gone; the last frame
             // downloaded is written as the last good state.
             progress_.clear();
-            totals_.outcome = "device failed";
+            totals_.outcome = "failed";
             message = e.what();
             code = exit_device_failed;
             write_last_good();
@@ -108,19 +117,22 @@ public:
             // A writer or I/O error: say so in run.json, then report it as any other error.
             progress_.clear();
             try {
-                record_.finish("failed", sim_.info(), e.what());
+                frames_.finish();
             } catch (const Error&) {
             }
+            try {
+                record_.finish("failed", sim_.info(), e.what(), exit_error);
+            } catch (const Error&) {
+            }
+            disarm_abort_record();
             throw;
         }
         progress_.clear();
-        // A final frame where the run stopped off the frame grid (Ctrl-C, --steps, --until).
         const bool failed = code == exit_simulation_failed || code == exit_device_failed;
-        if (!failed && frames_.last_time() < sim_.time() - eps)
-            frames_.submit(sim_.time(), sim_.particles());
         frames_.finish();
         totals_.loop_seconds = seconds_since(start);
-        record_.finish(totals_.outcome, sim_.info(), message);
+        record_.finish(totals_.outcome, sim_.info(), message, code, signal);
+        disarm_abort_record();
 
         totals_.last = sim_.info();
         totals_.steps = sim_.info().step - first_step;
@@ -149,8 +161,32 @@ public:
     }
 
 private:
+    // Device work outside a step (downloading a frame, sampling the probes): a failure names the
+    // step it followed, as a failure within a step does.
+    template <class F>
+    decltype(auto) after_step(const char* doing, F&& f) {
+        try {
+            return f();
+        } catch (const DeviceError& e) {
+            std::ostringstream o;
+            o << "after step " << sim_.info().step << ", t = " << sim_.time() << " s, " << doing << ": " << e.what()
+              << ". The run stopped; the last good state is at t = " << frames_.last_time() << " s.";
+            throw DeviceError(e.code(), o.str(), e.call(), e.device());
+        }
+    }
+
+    // A frame: downloaded, queued for the writer thread, and the CSV rows up to it pushed to disk,
+    // with the run.json a second signal would leave brought up to date.
+    void submit_frame() {
+        Particles p = after_step("downloading a frame", [&] { return sim_.particles(); });
+        frames_.submit(sim_.time(), std::move(p));
+        record_.flush();
+        arm_abort_record(record_.json_path(), record_.abort_text(sim_.info()));
+    }
+
     void sample_probes() {
-        if (!sim_.scene().probes.empty()) record_.probes(sim_.sample_probes());
+        if (sim_.scene().probes.empty()) return;
+        record_.probes(after_step("sampling the probes", [&] { return sim_.sample_probes(); }));
     }
 
     // The API does not say at what time last_good() was taken (with this loop it is the last frame

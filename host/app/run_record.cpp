@@ -73,7 +73,7 @@ RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Pr
         const std::string path = dir_ + "/probe_" + safe_name(p.name) + ".csv";
         probe_files_.emplace_back(p.name, std::make_unique<std::ofstream>(open_csv(path, "time,value")));
     }
-    write_json("running", nullptr, {});
+    write_json(Ending{"running"});
 }
 
 void RunRecord::step(const StepInfo& s) {
@@ -102,10 +102,27 @@ void RunRecord::probes(const std::vector<ProbeSample>& samples) {
     }
 }
 
-void RunRecord::finish(const std::string& status, const StepInfo& last, const std::string& message) {
+void RunRecord::flush() {
+    last_flush_ = std::chrono::steady_clock::now();
+    stats_.flush();
+    if (!stats_) throw Error("cannot write " + dir_ + "/stats.csv");
+    for (auto& [name, file] : probe_files_) {
+        file->flush();
+        if (!*file) throw Error("cannot write " + dir_ + "/probe_" + safe_name(name) + ".csv");
+    }
+}
+
+void RunRecord::finish(const std::string& status, const StepInfo& last, const std::string& message, int exit_status,
+                       const std::string& signal) {
     stats_.flush();
     for (auto& entry : probe_files_) entry.second->flush();
-    write_json(status, &last, message);
+    write_json(Ending{status, &last, message, exit_status, signal});
+}
+
+std::string RunRecord::abort_text(const StepInfo& last) const {
+    return json_text(Ending{"aborted", &last,
+                            "a second Ctrl-C or SIGTERM ended the run at once; the frames listed in the .pvd are "
+                            "complete, and so are stats.csv and the probe files up to the last of them"});
 }
 
 std::string RunRecord::safe_name(const std::string& name) {
@@ -118,7 +135,8 @@ std::string RunRecord::safe_name(const std::string& name) {
     return out.empty() ? "unnamed" : out;
 }
 
-void RunRecord::write_json(const std::string& status, const StepInfo* last, const std::string& message) const {
+std::string RunRecord::json_text(const Ending& e) const {
+    const StepInfo* last = e.last;
     std::ostringstream j;
     j << "{\n"
       << "  \"clsph_version\": " << json_string(version()) << ",\n"
@@ -128,8 +146,10 @@ void RunRecord::write_json(const std::string& status, const StepInfo* last, cons
       << "  \"devices\": " << json_strings(identity_.devices) << ",\n"
       << "  \"interaction\": " << json_strings(identity_.interactions) << ",\n"
       << "  \"start_time\": " << json_string(started_) << ",\n"
-      << "  \"status\": " << json_string(status) << ",\n";
-    if (!message.empty()) j << "  \"message\": " << json_string(message) << ",\n";
+      << "  \"status\": " << json_string(e.status) << ",\n";
+    if (e.exit_status >= 0) j << "  \"exit_status\": " << e.exit_status << ",\n";
+    if (!e.signal.empty()) j << "  \"signal\": " << json_string(e.signal) << ",\n";
+    if (!e.message.empty()) j << "  \"message\": " << json_string(e.message) << ",\n";
     if (last) {
         j << "  \"finish_time\": " << json_string(utc_now()) << ",\n"
           << "  \"steps\": " << last->step << ",\n"
@@ -144,12 +164,17 @@ void RunRecord::write_json(const std::string& status, const StepInfo* last, cons
     std::string indented;
     for (const char c : scene) indented += c == '\n' ? std::string("\n  ") : std::string(1, c);
     j << "  \"scene\": " << indented << "\n}\n";
+    return j.str();
+}
+
+void RunRecord::write_json(const Ending& e) const {
+    const std::string text = json_text(e);
 
     // Whole or not at all: a reader never sees half a run.json.
     const std::string path = dir_ + "/run.json", tmp = path + ".tmp";
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << j.str();
+        out << text;
         out.close();
         if (!out) throw Error("cannot write " + tmp);
     }

@@ -27,19 +27,37 @@ public:
     RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes);
 
     // stats.csv: step,time,dt,particles,fluid,removed,kinetic_energy,max_speed. The files are
-    // flushed about once a second, so `tail -f` and a plotting script see the run as it goes.
+    // flushed about once a second, so `tail -f` and a plotting script see the run as it goes, and
+    // at every frame (flush()).
     void step(const StepInfo& s);
+    // Pushes the CSV rows so far to the files (the run loop calls it at every frame, so what a
+    // kill -9 leaves is complete up to the last frame listed in the .pvd).
+    void flush();
     // probe_<name>.csv: time,value (NaN: no fluid at the probe)
     void probes(const std::vector<ProbeSample>& samples);
     // Rewrites run.json with the outcome ("running", "completed", "interrupted", "failed") and the
     // last step reached; flushes the CSV streams so they are complete whatever happens next.
-    void finish(const std::string& status, const StepInfo& last, const std::string& message = {});
+    // `exit_status` and `signal` (the signal that stopped the run, empty: none) go into run.json too.
+    void finish(const std::string& status, const StepInfo& last, const std::string& message = {}, int exit_status = 0,
+                const std::string& signal = {});
+    // The run.json a second Ctrl-C or SIGTERM writes from its signal handler (status "aborted",
+    // the last step known now).
+    std::string abort_text(const StepInfo& last) const;
+    std::string json_path() const { return dir_ + "/run.json"; }
 
     // A file-name-safe form of a probe or scene name ("p wall/1" -> "p_wall_1").
     static std::string safe_name(const std::string& name);
 
 private:
-    void write_json(const std::string& status, const StepInfo* last, const std::string& message) const;
+    struct Ending {
+        std::string status = {};
+        const StepInfo* last = nullptr;
+        std::string message = {};
+        int exit_status = -1;  // -1: not known (still running)
+        std::string signal = {};
+    };
+    std::string json_text(const Ending& e) const;
+    void write_json(const Ending& e) const;
 
     std::string dir_;
     RunIdentity identity_;

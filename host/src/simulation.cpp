@@ -2,6 +2,7 @@
 #include "clsph/simulation.hpp"
 
 #include "cl/device.hpp"
+#include "cl/errors.hpp"
 #include "clsph/error.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
@@ -82,8 +83,8 @@ BalanceMode balance_mode_from_name(const std::string& name) {
 Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::make_unique<Impl>(scene, options)) {
     auto& m = *impl_;
     const Particles p = scene.build_particles();
-    m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices,
-                                    cl_rt::OpenOptions{options.profile});
+    cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
+    m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
         d->profiler().enable(options.profile);
@@ -102,8 +103,11 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
                 : options.wait == WaitMode::block ? Mode::block
                                                   : Mode::callbacks;
     if (options.seams) dopt.seams = *options.seams;
-    m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
-    const auto k = m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
+    // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
+    const auto k = cl_rt::guarded("setting up the devices", "", [&] {
+        m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
+        return m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
+    });
     if (k.kick.bad_index >= 0) m.fail(k);
     m.info.removed = k.removed;
     m.info.particles = m.driver->owned();
@@ -122,13 +126,13 @@ const StepInfo& Simulation::step() {
     const double dt = m.dt_next;
     multi::StepOutcome k;
     try {
-        k = m.driver->step(dt);
+        k = cl_rt::guarded("taking a step", "", [&] { return m.driver->step(dt); });
     } catch (const DeviceError& e) {
         // A device failed mid-step: the device state is lost, the last good state is on the host.
         std::ostringstream o;
         o << "step " << m.info.step + 1 << ", t = " << m.info.time + dt << " s: " << e.what()
           << ". The run stopped; the last good state is at t = " << m.last_good_time << " s.";
-        throw DeviceError(e.code(), o.str());
+        throw DeviceError(e.code(), o.str(), e.call(), e.device());
     }
     if (k.kick.bad_index >= 0) m.fail(k);
     m.info.step += 1;
@@ -155,7 +159,7 @@ void Simulation::run_until(double t, const std::function<void(const StepInfo&)>&
 
 Particles Simulation::particles() {
     auto& m = *impl_;
-    Particles p = m.driver->download();
+    Particles p = cl_rt::guarded("downloading the particles", "", [&] { return m.driver->download(); });
     const auto& sp = m.driver->params();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const double x = p.density[i] / sp.rho0;
@@ -202,7 +206,7 @@ std::vector<ProbeSample> Simulation::sample_probes() {
         }
     }
     first.push_back(points.size());
-    const auto sums = m.driver->probe(points);
+    const auto sums = cl_rt::guarded("sampling the probes", "", [&] { return m.driver->probe(points); });
     std::vector<ProbeSample> out;
     for (std::size_t i = 0; i < m.scene.probes.size(); ++i) {
         const auto& pr = m.scene.probes[i];

@@ -43,6 +43,10 @@ void Process::interrupt() {
     if (pid_ > 0) kill(pid_, SIGINT);
 }
 
+void Process::signal(int number) {
+    if (pid_ > 0) kill(pid_, number);
+}
+
 int Process::wait(double timeout_s) {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     int status = 0;

@@ -16,6 +16,7 @@ public:
     Process& operator=(const Process&) = delete;
 
     void interrupt();  // SIGINT
+    void signal(int number);
     // The exit status; -N when a signal N ended it; -1000 when it outlived `timeout_s` (then killed).
     int wait(double timeout_s = 120.0);
 

@@ -1,6 +1,6 @@
 // `clsph run` end to end on a tiny dam break (L/dp = 10, c0 = 10 sqrt(gH), 6,305 particles, ~30
 // steps) on the default devices, and on bad input: what exit status, what message, what on disk.
-#include "process.hpp"
+#include "support.hpp"
 
 #include <clsph/io.hpp>
 #include <doctest/doctest.h>
@@ -17,69 +17,7 @@
 #include <thread>
 
 namespace fs = std::filesystem;
-using cli_test::run;
-
-namespace {
-
-const std::string source = CLSPH_SOURCE_DIR;
-const std::string scene = source + "/scenes/dam_break.json";
-
-// scenes/dam_break.json at dp = 2 x 0.0073 (the periodic slice widened to 13 particles, three
-// kernel supports) and half the sound speed: seconds on a 2-core CPU.
-const std::vector<std::string> tiny = {
-    "--set", "physics.dp=0.0146", "--set", "physics.coefsound=10",
-    "--set", "domain.max=[0.624,0.1898,0.45]", "--set", "fluid[0].max=[0.146,0.1752,0.292]",
-    "--set", "boundaries.walls[0].max=[0.584,0.1752,0.365]"};
-
-std::string work_dir(const std::string& name) {
-    const std::string dir = std::string(CLSPH_CLI_WORK) + "/" + name;
-    fs::remove_all(dir);
-    fs::create_directories(CLSPH_CLI_WORK);
-    return dir;
-}
-
-std::vector<std::string> args(std::initializer_list<std::vector<std::string>> parts) {
-    std::vector<std::string> out;
-    for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-    return out;
-}
-
-std::vector<std::vector<std::string>> read_csv_rows(const std::string& path) {
-    std::ifstream in(path);
-    std::vector<std::vector<std::string>> rows;
-    std::string line;
-    while (std::getline(in, line)) {
-        std::vector<std::string> cells;
-        std::stringstream s(line);
-        std::string cell;
-        while (std::getline(s, cell, ',')) cells.push_back(cell);
-        rows.push_back(cells);
-    }
-    return rows;
-}
-
-std::size_t count_files(const std::string& dir, const std::string& prefix, const std::string& extension) {
-    std::size_t n = 0;
-    for (const auto& e : fs::directory_iterator(dir)) {
-        const std::string name = e.path().filename().string();
-        n += name.rfind(prefix, 0) == 0 && e.path().extension() == extension;
-    }
-    return n;
-}
-
-bool near(double a, double b) { return std::abs(a - b) <= 1e-8 * std::max(1.0, std::abs(b)); }
-
-// The ids of a frame in id order, with their positions: VTU and CSV must agree particle by particle.
-std::vector<std::pair<std::uint32_t, std::array<double, 3>>> by_id(const clsph::Particles& p) {
-    std::vector<std::pair<std::uint32_t, std::array<double, 3>>> out;
-    for (std::size_t i = 0; i < p.size(); ++i) out.emplace_back(p.id[i], p.position[i]);
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
-nlohmann::json read_json(const std::string& path) { return nlohmann::json::parse(cli_test::read_text(path)); }
-
-}  // namespace
+using namespace cli_test;
 
 TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     const std::string out = work_dir("dam_break");
@@ -204,37 +142,6 @@ TEST_CASE("a blow-up: exit 2, the error named, the last good state written") {
     CHECK(j.at("message").get<std::string>().find("outside the allowed band") != std::string::npos);
     CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
     CHECK(clsph::read_pvd(out + "/dam_break.pvd").size() >= 1);
-}
-
-TEST_CASE("a device failing mid-run: exit 3, device and step named, the last good state written") {
-    const std::string out = work_dir("device_failure");
-    std::string log;
-    // Two devices where there are two (pocl basic + pthread in CI), the second failing at step 7;
-    // frames every 0.001 s so a frame was downloaded before the failure.
-    ::setenv("CLSPH_TEST_DEVICE_FAILURE", "7:1", 1);
-    const int code = run(args({{"run", scene}, tiny, {"--devices", "all", "--until", "0.01", "--every", "0.0005", "--out", out}}), log);
-    ::unsetenv("CLSPH_TEST_DEVICE_FAILURE");
-    INFO(log);
-    CHECK(code == 3);
-    CHECK(log.find("clsph: error: step 7, t = ") != std::string::npos);
-    CHECK(log.find("CL_OUT_OF_RESOURCES") != std::string::npos);
-    CHECK(log.find("last good state is in") != std::string::npos);
-    const auto j = read_json(out + "/run.json");
-    CHECK(j.at("status") == "device failed");
-    CHECK(j.at("message").get<std::string>().find("step 7") != std::string::npos);
-    // Every particle is in the last good state (none was lost to the failure).
-    CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
-}
-
-TEST_CASE("a malformed CLSPH_TEST_DEVICE_FAILURE is an error, not ignored") {
-    const std::string out = work_dir("device_failure_bad");
-    std::string log;
-    ::setenv("CLSPH_TEST_DEVICE_FAILURE", "seven", 1);
-    const int code = run(args({{"run", scene}, tiny, {"--steps", "2", "--out", out}}), log);
-    ::unsetenv("CLSPH_TEST_DEVICE_FAILURE");
-    INFO(log);
-    CHECK(code == 1);
-    CHECK(log.find("CLSPH_TEST_DEVICE_FAILURE") != std::string::npos);
 }
 
 TEST_CASE("--dry-run reports and writes nothing") {

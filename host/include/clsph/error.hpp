@@ -17,27 +17,35 @@ public:
     using Error::Error;
 };
 
-// An OpenCL call failed; code() is the raw cl_int, the message names it (CL_OUT_OF_RESOURCES).
+// An OpenCL call failed (whether the bindings threw or returned the code): code() is the raw
+// cl_int; the message names what clsph was doing (the kernel, the buffer), the device, the OpenCL
+// call and the error by name ("launching kernel 'sph.forces' on #1 pthread-... (Portable
+// Computing Language): clEnqueueNDRangeKernel failed with CL_OUT_OF_RESOURCES (-5)"), and, during
+// a run, the step. call() and device() are those parts alone (empty where not known).
 class DeviceError : public Error {
 public:
-    DeviceError(int code, const std::string& message) : Error(message), code_(code) {}
+    DeviceError(int code, const std::string& message, std::string call = {}, std::string device = {})
+        : Error(message), code_(code), call_(std::move(call)), device_(std::move(device)) {}
     int code() const noexcept { return code_; }
+    const std::string& call() const noexcept { return call_; }
+    const std::string& device() const noexcept { return device_; }
 
 private:
     int code_;
+    std::string call_, device_;
 };
 
-// A kernel failed to compile: the message holds the file, the options, the device and the full log.
-class BuildError : public Error {
+// A kernel failed to compile: the message holds the file, the options, the device and the full
+// log. A DeviceError (code() is the cl_int clBuildProgram returned), as it is the driver that fails.
+class BuildError : public DeviceError {
 public:
-    BuildError(std::string file, std::string options, std::string device, std::string log);
+    BuildError(std::string file, std::string options, std::string device, std::string log, int code = -11);
     const std::string& file() const noexcept { return file_; }
     const std::string& options() const noexcept { return options_; }
-    const std::string& device() const noexcept { return device_; }
     const std::string& log() const noexcept { return log_; }
 
 private:
-    std::string file_, options_, device_, log_;
+    std::string file_, options_, log_;
 };
 
 // A device allocation that would not fit: needed vs available, checked before the driver is asked.

@@ -2,11 +2,13 @@
 // slow device, a device that fails, cuts forced from outside) so the code that copes with it can
 // be checked. Set them on Options through clsph::testing::set_seams.
 #pragma once
+#include "clsph/fault.hpp"
 #include "clsph/simulation.hpp"
 
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace clsph::testing {
@@ -18,10 +20,8 @@ struct Seams {
     // Run each device's force pass alone (wait for it before starting the next), so devices that
     // share a CPU are timed without each other's load.
     bool serialize_devices = false;
-    // A simulated device failure (CL_OUT_OF_RESOURCES from device `fail_device`) when step
-    // `fail_at_step` starts (0: never), to exercise the mid-run error path.
-    std::uint64_t fail_at_step = 0;
-    std::size_t fail_device = 0;
+    // OpenCL calls that fail (see Fault).
+    std::vector<Fault> faults;
     // Every exchange sends from whole slabs and merges with one sort, the path a particle that
     // jumped more than a column takes (the CFL limit rules that out, so tests force it here).
     bool wide_exchange = false;

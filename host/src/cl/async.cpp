@@ -136,6 +136,7 @@ bool PinnedHost::reserve(Device& device, std::size_t bytes, double headroom) {
     device_ = &device;
     const std::size_t want = static_cast<std::size_t>(static_cast<double>(std::max<std::size_t>(bytes, 1)) * (1.0 + headroom));
     guarded("allocating " + std::to_string(want) + " bytes of pinned host memory", device.label(), [&] {
+        device.faults().before(testing::FaultCall::allocation, "clCreateBuffer");
         buffer_ = cl::Buffer(device.context(), CL_MEM_ALLOC_HOST_PTR | CL_MEM_READ_WRITE, want);
         data_ = static_cast<unsigned char*>(
             device.queue().enqueueMapBuffer(buffer_, CL_TRUE, CL_MAP_READ | CL_MAP_WRITE, 0, want));

@@ -14,19 +14,33 @@ Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const Op
       quirks_(quirks_for(info_)),
       device_(std::move(device)),
       context_(std::move(context)),
+      faults_(std::make_unique<FaultInjector>(options.faults)),
       memory_(context_, label_, static_cast<std::size_t>(info_.global_memory),
-              static_cast<std::size_t>(info_.max_allocation)),
-      programs_(context_, device_, label_),
+              static_cast<std::size_t>(info_.max_allocation), faults_.get()),
+      programs_(context_, device_, label_, faults_.get()),
       profiler_(quirks_.fake_event_timestamps) {
     cl_int err = CL_SUCCESS;
     // Queues always allow profiling (its cost is negligible on the drivers we know), so timing can
     // be switched on at any point; the balancer needs event times every step anyway.
     const cl_command_queue_properties props = quirks_.fake_event_timestamps ? 0 : CL_QUEUE_PROFILING_ENABLE;
-    queue_ = cl::CommandQueue(context_, device_, props, &err);
-    check(err, "creating command queue", label_);
-    transfer_queue_ = cl::CommandQueue(context_, device_, props, &err);
-    check(err, "creating the transfer queue", label_);
+    guarded("creating the command queues", label_, [&] {
+        queue_ = cl::CommandQueue(context_, device_, props, &err);
+        check(err, "creating the command queue", label_);
+        transfer_queue_ = cl::CommandQueue(context_, device_, props, &err);
+        check(err, "creating the transfer queue", label_);
+    });
     profiler_.enable(options.profiling);
+}
+
+template <class F>
+void Device::call(std::optional<testing::FaultCall> kind, const char* cl_name, const std::string& what, F&& f) {
+    try {
+        if (kind) faults_->before(*kind, cl_name);
+        const cl_int err = f();
+        if (err != CL_SUCCESS) throw cl::Error(err, cl_name);
+    } catch (const cl::Error& e) {
+        throw device_error(e, what, label_);
+    }
 }
 
 std::size_t Device::work_group_size(std::size_t cap) const {
@@ -40,40 +54,48 @@ void Device::launch(const std::string& name, cl::Kernel& kernel, std::size_t glo
     if (global == 0) return;
     const std::size_t padded = (global + local - 1) / local * local;
     if (profiler_.enabled() && profiler_.host_timed()) {
-        queue_.finish();
+        call(std::nullopt, "clFinish", "waiting before kernel '" + name + "'", [&] { return queue_.finish(); });
         const auto t0 = std::chrono::steady_clock::now();
-        check(queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local)),
-              "launching kernel '" + name + "'", label_);
-        queue_.finish();
+        call(testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel '" + name + "'", [&] {
+            return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local));
+        });
+        call(std::nullopt, "clFinish", "running kernel '" + name + "'", [&] { return queue_.finish(); });
         profiler_.add_seconds(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         return;
     }
     cl::Event ev;
-    check(queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr,
-                                      profiler_.enabled() ? &ev : nullptr),
-          "launching kernel '" + name + "'", label_);
+    call(testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel '" + name + "'", [&] {
+        return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr,
+                                           profiler_.enabled() ? &ev : nullptr);
+    });
     if (profiler_.enabled()) profiler_.add_event(name, std::move(ev));
 }
 
-void Device::flush() { check(queue_.flush(), "submitting the queue", label_); }
+void Device::flush() {
+    call(std::nullopt, "clFlush", "submitting the queue", [&] { return queue_.flush(); });
+}
 
 void Device::finish() {
-    check(transfer_queue_.finish(), "waiting for the transfer queue", label_);
-    check(queue_.finish(), "waiting for the queue", label_);
+    call(std::nullopt, "clFinish", "waiting for the transfer queue", [&] { return transfer_queue_.finish(); });
+    call(std::nullopt, "clFinish", "waiting for the queue", [&] { return queue_.finish(); });
 }
 
 void Device::write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset) {
-    check(queue_.enqueueWriteBuffer(dst.get(), CL_TRUE, offset, bytes, src), "writing a buffer", label_);
+    call(std::nullopt, "clEnqueueWriteBuffer", "writing a buffer",
+         [&] { return queue_.enqueueWriteBuffer(dst.get(), CL_TRUE, offset, bytes, src); });
 }
 
 void Device::read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset) {
-    check(queue_.enqueueReadBuffer(src.get(), CL_TRUE, offset, bytes, dst), "reading a buffer", label_);
+    call(testing::FaultCall::read, "clEnqueueReadBuffer", "reading a buffer",
+         [&] { return queue_.enqueueReadBuffer(src.get(), CL_TRUE, offset, bytes, dst); });
 }
 
 void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done, On on) {
     if (!bytes) return;
     cl::Event ev;
-    check((on == On::transfer ? transfer_queue_ : queue_).enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev), "reading a buffer", label_);
+    call(testing::FaultCall::read, "clEnqueueReadBuffer", "reading a buffer", [&] {
+        return (on == On::transfer ? transfer_queue_ : queue_).enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev);
+    });
     if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.read", ev);
     done.add(*this, std::move(ev));
 }
@@ -81,7 +103,9 @@ void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::si
 void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done, On on) {
     if (!bytes) return;
     cl::Event ev;
-    check((on == On::transfer ? transfer_queue_ : queue_).enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev), "writing a buffer", label_);
+    call(std::nullopt, "clEnqueueWriteBuffer", "writing a buffer", [&] {
+        return (on == On::transfer ? transfer_queue_ : queue_).enqueueWriteBuffer(dst.get(), CL_FALSE, offset, bytes, src, nullptr, &ev);
+    });
     if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.write", ev);
     done.add(*this, std::move(ev));
 }
@@ -89,19 +113,21 @@ void Device::write_async(Buffer& dst, const void* src, std::size_t bytes, std::s
 void Device::barrier(const EventSet& after) {
     std::vector<cl::Event> mine = after.events_of(*this);
     if (mine.empty()) return;
-    check(transfer_queue_.flush(), "submitting the transfer queue", label_);
-    check(queue_.enqueueBarrierWithWaitList(&mine), "ordering the compute queue after transfers", label_);
+    call(std::nullopt, "clFlush", "submitting the transfer queue", [&] { return transfer_queue_.flush(); });
+    call(std::nullopt, "clEnqueueBarrierWithWaitList", "ordering the compute queue after transfers",
+         [&] { return queue_.enqueueBarrierWithWaitList(&mine); });
 }
 
 void Device::fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes,
                         std::size_t offset) {
-    check(clEnqueueFillBuffer(queue_(), dst.get()(), pattern, pattern_size, offset, bytes, 0, nullptr, nullptr),
-          "filling a buffer", label_);
+    call(std::nullopt, "clEnqueueFillBuffer", "filling a buffer",
+         [&] { return clEnqueueFillBuffer(queue_(), dst.get()(), pattern, pattern_size, offset, bytes, 0, nullptr, nullptr); });
 }
 
 void Device::copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t src_offset, std::size_t dst_offset) {
     if (bytes == 0) return;
-    check(queue_.enqueueCopyBuffer(src.get(), dst.get(), src_offset, dst_offset, bytes), "copying a buffer", label_);
+    call(std::nullopt, "clEnqueueCopyBuffer", "copying a buffer",
+         [&] { return queue_.enqueueCopyBuffer(src.get(), dst.get(), src_offset, dst_offset, bytes); });
 }
 
 std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const OpenOptions& options) {
@@ -123,9 +149,14 @@ std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const
         const auto& info = infos[i];
         cl::Device dev = all.at(i);
         cl_int err = CL_SUCCESS;
-        cl::Context ctx(dev, nullptr, nullptr, nullptr, &err);
-        check(err, "creating a context", "#" + std::to_string(i) + " " + info.name);
-        out.push_back(std::make_unique<Device>(info, dev, ctx, options));
+        const std::string name = "#" + std::to_string(i) + " " + info.name;
+        cl::Context ctx = guarded("creating a context", name, [&] { return cl::Context(dev, nullptr, nullptr, nullptr, &err); });
+        check(err, "creating a context", name);
+        OpenOptions mine = options;  // the faults planned for this device only
+        mine.faults.clear();
+        for (const auto& f : options.faults)
+            if (f.device == out.size()) mine.faults.push_back(f);
+        out.push_back(std::make_unique<Device>(info, dev, ctx, mine));
     }
     return out;
 }

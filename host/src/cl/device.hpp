@@ -5,6 +5,7 @@
 #pragma once
 #include "cl/async.hpp"
 #include "cl/cl.hpp"
+#include "cl/faults.hpp"
 #include "cl/memory.hpp"
 #include "cl/profiler.hpp"
 #include "cl/program_cache.hpp"
@@ -12,6 +13,7 @@
 #include "clsph/devices.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,8 @@ namespace clsph::cl_rt {
 
 struct OpenOptions {
     bool profiling = false;  // time every named launch (events, or host clocks where events lie)
+    // Tests: OpenCL calls that fail (Fault::device is the position in the selection).
+    std::vector<testing::Fault> faults = {};
 };
 
 class Device {
@@ -38,6 +42,7 @@ public:
     MemoryTracker& memory() { return memory_; }
     ProgramCache& programs() { return programs_; }
     Profiler& profiler() { return profiler_; }
+    FaultInjector& faults() { return *faults_; }
 
     Buffer alloc(std::size_t bytes, const std::string& what, cl_mem_flags flags = CL_MEM_READ_WRITE) {
         return memory_.allocate(bytes, what, flags);
@@ -88,6 +93,11 @@ private:
     void write_bytes(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset);
     void read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset);
     void fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes, std::size_t offset);
+    // Runs an enqueue `f` (returning its cl_int) as the OpenCL call `cl_name`: a fault planned for
+    // it, a cl::Error the bindings throw and an error code returned all become one DeviceError
+    // naming `what`, the call and this device.
+    template <class F>
+    void call(std::optional<testing::FaultCall> kind, const char* cl_name, const std::string& what, F&& f);
 
     DeviceInfo info_;
     std::string label_;
@@ -95,6 +105,7 @@ private:
     cl::Device device_;
     cl::Context context_;
     cl::CommandQueue queue_, transfer_queue_;
+    std::unique_ptr<FaultInjector> faults_;  // before memory_ and programs_, which use it
     MemoryTracker memory_;
     ProgramCache programs_;
     Profiler profiler_;

@@ -2,12 +2,13 @@
 
 namespace clsph {
 
-BuildError::BuildError(std::string file, std::string options, std::string device, std::string log)
-    : Error("kernel build failed: " + file + " on " + device + " with options '" + options +
-            "'\n--- build log ---\n" + log + "\n--- end of build log ---"),
+BuildError::BuildError(std::string file, std::string options, std::string device, std::string log, int code)
+    : DeviceError(code,
+                  "kernel build failed: " + file + " on " + device + " with options '" + options +
+                      "'\n--- build log ---\n" + log + "\n--- end of build log ---",
+                  "clBuildProgram", device),
       file_(std::move(file)),
       options_(std::move(options)),
-      device_(std::move(device)),
       log_(std::move(log)) {}
 
 namespace cl_rt {
@@ -87,7 +88,14 @@ void check(cl_int code, const std::string& what, const std::string& device) {
     std::string msg = what;
     if (!device.empty()) msg += " on " + device;
     msg += ": " + error_name(code) + " (" + std::to_string(code) + ")";
-    throw DeviceError(code, msg);
+    throw DeviceError(code, msg, {}, device);
+}
+
+DeviceError device_error(const cl::Error& e, const std::string& what, const std::string& device) {
+    std::string msg = what;
+    if (!device.empty()) msg += " on " + device;
+    msg += ": " + std::string(e.what()) + " failed with " + error_name(e.err()) + " (" + std::to_string(e.err()) + ")";
+    return DeviceError(e.err(), msg, e.what(), device);
 }
 
 }  // namespace cl_rt

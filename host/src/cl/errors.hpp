@@ -12,17 +12,17 @@ std::string error_name(cl_int code);
 // Throws DeviceError("<what> on <device>: CL_NAME (code)") when code != CL_SUCCESS.
 void check(cl_int code, const std::string& what, const std::string& device = {});
 
+// The DeviceError for a cl::Error the bindings threw: "<what> on <device>: <call> failed with
+// CL_NAME (code)".
+DeviceError device_error(const cl::Error& e, const std::string& what, const std::string& device);
+
 // Runs f(); a cl::Error it throws becomes a DeviceError naming the call, the device and the error.
 template <class F>
 decltype(auto) guarded(const std::string& what, const std::string& device, F&& f) {
     try {
         return f();
     } catch (const cl::Error& e) {
-        std::string msg = what;
-        if (!device.empty()) msg += " on " + device;
-        msg += ": " + std::string(e.what()) + " failed with " + error_name(e.err()) + " (" +
-               std::to_string(e.err()) + ")";
-        throw DeviceError(e.err(), msg);
+        throw device_error(e, what, device);
     }
 }
 

@@ -1,6 +1,7 @@
 #include "cl/memory.hpp"
 
 #include "cl/errors.hpp"
+#include "cl/faults.hpp"
 #include "clsph/error.hpp"
 
 #include <sstream>
@@ -16,8 +17,8 @@ std::string mib(std::size_t b) {
 }  // namespace
 
 MemoryTracker::MemoryTracker(cl::Context context, std::string device_label, std::size_t global_memory,
-                             std::size_t max_allocation)
-    : context_(std::move(context)), label_(std::move(device_label)), state_(std::make_shared<State>()) {
+                             std::size_t max_allocation, FaultInjector* faults)
+    : context_(std::move(context)), label_(std::move(device_label)), faults_(faults), state_(std::make_shared<State>()) {
     state_->global_memory = global_memory;
     state_->max_allocation = max_allocation;
 }
@@ -33,8 +34,12 @@ Buffer MemoryTracker::allocate(std::size_t bytes, const std::string& what, cl_me
                                 mib(state_->global_memory - c.current) + " of " + mib(state_->global_memory) +
                                 " remain (" + mib(c.current) + " already held by clsph)");
     cl_int err = CL_SUCCESS;
-    cl::Buffer buf(context_, flags, bytes, nullptr, &err);
-    check(err, "allocating buffer '" + what + "' (" + mib(bytes) + ")", label_);
+    const std::string doing = "allocating buffer '" + what + "' (" + mib(bytes) + ")";
+    cl::Buffer buf = guarded(doing, label_, [&] {
+        if (faults_) faults_->before(testing::FaultCall::allocation, "clCreateBuffer");
+        return cl::Buffer(context_, flags, bytes, nullptr, &err);
+    });
+    check(err, doing, label_);
     c.current += bytes;
     c.buffers += 1;
     if (c.current > c.peak) c.peak = c.current;

@@ -17,11 +17,12 @@ struct MemoryCounters {
 };
 
 class Buffer;
+class FaultInjector;
 
 class MemoryTracker {
 public:
     MemoryTracker(cl::Context context, std::string device_label, std::size_t global_memory,
-                  std::size_t max_allocation);
+                  std::size_t max_allocation, FaultInjector* faults = nullptr);
     // Allocates `bytes` (at least 1) named `what` (used in errors). Throws OutOfDeviceMemory before
     // asking the driver when the request exceeds the max allocation or the global memory left.
     Buffer allocate(std::size_t bytes, const std::string& what, cl_mem_flags flags = CL_MEM_READ_WRITE);
@@ -38,6 +39,7 @@ public:
 private:
     cl::Context context_;
     std::string label_;
+    FaultInjector* faults_;
     std::shared_ptr<State> state_;
 };
 

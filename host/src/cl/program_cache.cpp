@@ -1,6 +1,7 @@
 #include "cl/program_cache.hpp"
 
 #include "cl/errors.hpp"
+#include "cl/faults.hpp"
 #include "cl/kernel_sources.hpp"
 #include "clsph/error.hpp"
 
@@ -8,8 +9,8 @@
 
 namespace clsph::cl_rt {
 
-ProgramCache::ProgramCache(cl::Context context, cl::Device device, std::string device_label)
-    : context_(std::move(context)), device_(std::move(device)), label_(std::move(device_label)) {}
+ProgramCache::ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults)
+    : context_(std::move(context)), device_(std::move(device)), label_(std::move(device_label)), faults_(faults) {}
 
 cl::Program& ProgramCache::program(const std::string& file, const std::string& options) {
     const std::string source = kernel_source(file);
@@ -19,6 +20,7 @@ cl::Program& ProgramCache::program(const std::string& file, const std::string& o
 
     cl::Program prog = guarded("creating program from " + file, label_, [&] { return cl::Program(context_, source, false); });
     try {
+        if (faults_) faults_->before(testing::FaultCall::build, "clBuildProgram");
         prog.build(std::vector<cl::Device>{device_}, full_options.c_str());
     } catch (const cl::Error& e) {
         std::string log;
@@ -29,7 +31,7 @@ cl::Program& ProgramCache::program(const std::string& file, const std::string& o
         }
         if (e.err() != CL_BUILD_PROGRAM_FAILURE && e.err() != CL_INVALID_BUILD_OPTIONS)
             log = error_name(e.err()) + "\n" + log;
-        throw BuildError(file, full_options, label_, log);
+        throw BuildError(file, full_options, label_, log, e.err());
     }
     return programs_.emplace(key, std::move(prog)).first->second;
 }

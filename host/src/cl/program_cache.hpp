@@ -7,9 +7,11 @@
 
 namespace clsph::cl_rt {
 
+class FaultInjector;
+
 class ProgramCache {
 public:
-    ProgramCache(cl::Context context, cl::Device device, std::string device_label);
+    ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults = nullptr);
     // Builds kernels/<file> with "-cl-std=CL1.2 <options>" (once per distinct source+options) and
     // returns a fresh kernel object (kernels hold their arguments, so each user gets its own).
     // A build failure throws BuildError with the file, options, device and full build log.
@@ -21,6 +23,7 @@ private:
     cl::Context context_;
     cl::Device device_;
     std::string label_;
+    FaultInjector* faults_;
     std::map<std::string, cl::Program> programs_;
 };
 

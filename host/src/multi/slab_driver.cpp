@@ -58,7 +58,7 @@ StepOutcome SlabDriver::start() {
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
 StepOutcome SlabDriver::step(double dt) {
-    apply_seams();                                 // tests: a simulated failure, forced cuts
+    apply_seams();                                 // tests: forced cuts
     drift(dt);                                     // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
         rebalance();                               // cuts from the last step's force times, while the devices drift
@@ -76,11 +76,6 @@ StepOutcome SlabDriver::step(double dt) {
 
 void SlabDriver::apply_seams() {
     const auto& seams = options_.seams;
-    if (seams.fail_at_step != 0 && steps_ + 1 == seams.fail_at_step) {
-        const std::size_t d = std::min(seams.fail_device, slabs_.size() - 1);
-        throw DeviceError(CL_OUT_OF_RESOURCES, "launching kernel 'sph.kick_drift' on " + slabs_[d].device->label() +
-                                                   ": CL_OUT_OF_RESOURCES (-5) (a simulated failure, for tests)");
-    }
     if (seams.cut_schedule && slabs_.size() > 1) partition_.set_cuts(slabs_, seams.cut_schedule(steps_, columns()));
 }
 

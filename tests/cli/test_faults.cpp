@@ -1,0 +1,136 @@
+// Real OpenCL failures, injected in the runtime layer (CLSPH_TEST_FAULT: the Nth launch, allocation,
+// read or build on a device fails with the driver's error code), on one device and on every device
+// there is: the exit status, the message, last_good.vtu and run.json are what the README says.
+#include "support.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+
+using namespace cli_test;
+
+namespace {
+
+// How many devices `--devices all` picks (2 pocl + rusticl in CI: 3).
+std::size_t device_count() {
+    std::string log;
+    run({"devices", "--devices", "all"}, log);
+    const auto at = log.find("picks:");
+    if (at == std::string::npos) return 0;
+    std::istringstream in(log.substr(at + 6));
+    std::size_t n = 0;
+    for (std::string index; in >> index;) ++n;
+    return n;
+}
+
+struct Faulted {
+    int code = 0;
+    std::string log;
+};
+
+Faulted run_with_fault(const std::string& fault, const std::string& devices, const std::string& out) {
+    ::setenv("CLSPH_TEST_FAULT", fault.c_str(), 1);
+    Faulted r;
+    // Frames every 0.0005 s, so frames were downloaded before the failure.
+    r.code = run(args({{"run", scene}, tiny, {"--devices", devices, "--until", "0.01", "--every", "0.0005", "--out", out}}), r.log);
+    ::unsetenv("CLSPH_TEST_FAULT");
+    return r;
+}
+
+void check_mid_run_failure(const Faulted& r, const std::string& out, const std::string& call, const std::string& error) {
+    INFO(r.log);
+    CHECK(r.code == 3);
+    CHECK(r.log.find("clsph: error: ") != std::string::npos);
+    CHECK(r.log.find(call + " failed with " + error) != std::string::npos);
+    CHECK(r.log.find("step ") != std::string::npos);
+    CHECK(r.log.find("last good state is in " + out + "/last_good.vtu") != std::string::npos);
+    const auto j = read_json(out + "/run.json");
+    CHECK(j.at("status") == "failed");
+    CHECK(j.at("exit_status") == 3);
+    CHECK(j.at("message").get<std::string>().find(call + " failed with " + error) != std::string::npos);
+    // Every particle is in the last good state (none lost to the failure), at a frame's time.
+    CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
+    CHECK(clsph::read_pvd(out + "/dam_break.pvd").size() >= 1);
+}
+
+}  // namespace
+
+TEST_CASE("a kernel launch failing mid-run on one device: exit 3, kernel, device and step named") {
+    const std::string out = work_dir("fault_enqueue_one");
+    const auto r = run_with_fault("enqueue:200", "0", out);
+    check_mid_run_failure(r, out, "clEnqueueNDRangeKernel", "CL_OUT_OF_RESOURCES (-5)");
+    CHECK(r.log.find("clsph: error: step ") != std::string::npos);
+    CHECK(r.log.find("launching kernel '") != std::string::npos);
+    CHECK(r.log.find(" on #0 ") != std::string::npos);
+}
+
+TEST_CASE("a download failing mid-run on one device: exit 3, the frame and the step named") {
+    const std::string out = work_dir("fault_read_one");
+    const auto r = run_with_fault("read:30", "0", out);
+    check_mid_run_failure(r, out, "clEnqueueReadBuffer", "CL_OUT_OF_RESOURCES (-5)");
+    CHECK(r.log.find("reading a buffer on #0 ") != std::string::npos);
+}
+
+TEST_CASE("failures on the last of several devices: exit 3 and the failing device named, no hang") {
+    const std::size_t n = device_count();
+    REQUIRE(n >= 1);
+    const std::string last = std::to_string(n - 1);
+    SUBCASE("a launch") {
+        const std::string out = work_dir("fault_enqueue_all");
+        const auto r = run_with_fault("enqueue:250:" + last, "all", out);
+        check_mid_run_failure(r, out, "clEnqueueNDRangeKernel", "CL_OUT_OF_RESOURCES (-5)");
+        CHECK(r.log.find("clsph: error: step ") != std::string::npos);
+        CHECK(r.log.find("on #" + last + " ") != std::string::npos);
+    }
+    SUBCASE("a read") {
+        const std::string out = work_dir("fault_read_all");
+        const auto r = run_with_fault("read:40:" + last, "all", out);
+        check_mid_run_failure(r, out, "clEnqueueReadBuffer", "CL_OUT_OF_RESOURCES (-5)");
+        CHECK(r.log.find("on #" + last + " ") != std::string::npos);
+    }
+}
+
+TEST_CASE("an allocation or a build failing during set-up: exit 3, named, no output directory") {
+    const std::size_t n = device_count();
+    REQUIRE(n >= 1);
+    for (const char* devices_text : {"0", "all"}) {
+        const std::string devices = devices_text;
+        const std::string last = devices == "all" ? std::to_string(n - 1) : "0";
+        CAPTURE(devices);
+        {
+            const std::string out = work_dir("fault_allocation");
+            const auto r = run_with_fault("allocation:3:" + last, devices, out);
+            INFO(r.log);
+            CHECK(r.code == 3);
+            CHECK(r.log.find("clsph: error: allocating buffer '") != std::string::npos);
+            CHECK(r.log.find("clCreateBuffer failed with CL_MEM_OBJECT_ALLOCATION_FAILURE (-4)") != std::string::npos);
+            CHECK(r.log.find("on #" + last + " ") != std::string::npos);
+            CHECK_FALSE(fs::exists(out));
+        }
+        {
+            const std::string out = work_dir("fault_build");
+            const auto r = run_with_fault("build:2:" + last, devices, out);
+            INFO(r.log);
+            CHECK(r.code == 3);
+            CHECK(r.log.find("clsph: error: kernel build failed: ") != std::string::npos);
+            CHECK(r.log.find("CL_OUT_OF_HOST_MEMORY") != std::string::npos);
+            CHECK(r.log.find("on #" + last + " ") != std::string::npos);
+            CHECK_FALSE(fs::exists(out));
+        }
+    }
+}
+
+TEST_CASE("a malformed CLSPH_TEST_FAULT is an error, not ignored") {
+    for (const char* bad : {"seven", "enqueue", "enqueue:0", "launch:3", "read:3:x", "read:-1"}) {
+        CAPTURE(bad);
+        const std::string out = work_dir("fault_bad");
+        std::string log;
+        ::setenv("CLSPH_TEST_FAULT", bad, 1);
+        const int code = run(args({{"run", scene}, tiny, {"--steps", "2", "--out", out}}), log);
+        ::unsetenv("CLSPH_TEST_FAULT");
+        INFO(log);
+        CHECK(code == 1);
+        CHECK(log.find("clsph: error: CLSPH_TEST_FAULT: expected CALL:N") != std::string::npos);
+        CHECK_FALSE(fs::exists(out));
+    }
+}
