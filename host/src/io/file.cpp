@@ -8,6 +8,9 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
+#include <algorithm>
+#include <cstdio>
 
 namespace clsph::io {
 
@@ -49,13 +52,46 @@ void OutputFile::commit() {
     }
 }
 
-std::string read_file(const std::string& path) {
+namespace {
+
+std::string bytes_text(std::uintmax_t b) {
+    const char* unit[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+    double v = static_cast<double>(b);
+    int u = 0;
+    while (v >= 1024.0 && u < 4) v /= 1024.0, ++u;
+    char text[48];
+    std::snprintf(text, sizeof text, u == 0 ? "%.0f %s" : "%.1f %s", v, unit[u]);
+    return text;
+}
+
+}  // namespace
+
+std::string file_problem(const std::string& path, std::size_t limit) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return std::strerror(errno);
+    if (S_ISDIR(st.st_mode)) return "it is a directory, not a file";
+    if (!S_ISREG(st.st_mode)) return "it is not a regular file (a device, a pipe or a socket)";
+    if (static_cast<std::uintmax_t>(st.st_size) > limit)
+        return "the file is " + bytes_text(static_cast<std::uintmax_t>(st.st_size)) + ", more than the " +
+               bytes_text(limit) + " allowed";
+    return "";
+}
+
+std::string read_file(const std::string& path, std::size_t limit) {
+    if (const std::string why = file_problem(path, limit); !why.empty()) throw Error("cannot read " + path + ": " + why);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot read " + path + ": " + std::strerror(errno));
-    std::ostringstream buf;
-    buf << in.rdbuf();
+    // At most limit + 1 bytes, even if the file grows while it is read.
+    std::string text;
+    char chunk[65536];
+    while (in && text.size() <= limit) {
+        in.read(chunk, static_cast<std::streamsize>(std::min<std::size_t>(sizeof chunk, limit + 1 - text.size())));
+        text.append(chunk, static_cast<std::size_t>(in.gcount()));
+        if (in.gcount() == 0) break;
+    }
     if (in.bad()) throw Error("cannot read " + path + ": " + std::strerror(errno));
-    return buf.str();
+    if (text.size() > limit) throw Error("cannot read " + path + ": it grew past the " + bytes_text(limit) + " allowed");
+    return text;
 }
 
 std::string exact_text(double v) {

@@ -29,8 +29,14 @@ private:
     std::FILE* file_ = nullptr;
 };
 
-// The whole file; Error "cannot read PATH: <OS error>".
-std::string read_file(const std::string& path);
+// Why `path` cannot be read as a file of at most `limit` bytes ("" when it can): it is missing,
+// a directory, not a regular file (a device such as /dev/zero, a pipe: streams with no end), or
+// larger than the limit. Checked before a byte is read, so an endless stream cannot fill memory.
+std::string file_problem(const std::string& path, std::size_t limit);
+
+// The whole file, which must be a regular file of at most `limit` bytes; Error "cannot read
+// PATH: <why>".
+std::string read_file(const std::string& path, std::size_t limit = std::size_t{4} << 30);
 
 // The shortest decimal text that reads back as exactly the same value.
 std::string exact_text(double v);

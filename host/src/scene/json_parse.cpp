@@ -1,6 +1,7 @@
 #include "scene/json_parse.hpp"
 
 #include "clsph/error.hpp"
+#include "io/file.hpp"
 
 #include <cerrno>
 #include <algorithm>
@@ -173,12 +174,16 @@ std::string json_type_name(const Json& v) {
 }
 
 std::string read_text_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw SceneError(path + ": cannot read: " + std::strerror(errno));
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) throw SceneError(path + ": cannot read: " + std::strerror(errno));
-    return buf.str();
+    // Only regular files of a sane size: a scene path that is /dev/zero or a FIFO is refused
+    // before a byte is read, rather than read until memory runs out.
+    if (const std::string why = io::file_problem(path, max_scene_bytes); !why.empty())
+        throw SceneError(path + ": cannot read: " + why);
+    try {
+        return io::read_file(path, max_scene_bytes);
+    } catch (const Error& e) {
+        const std::string what = e.what(), lead = "cannot read " + path + ": ";
+        throw SceneError(path + ": cannot read: " + (what.rfind(lead, 0) == 0 ? what.substr(lead.size()) : what));
+    }
 }
 
 Json parse_scene_text(const std::string& text, const std::string& source) {

@@ -1,6 +1,7 @@
 // Turning the text of a scene file into a JSON document, with errors a user can act on: the file
 // name, line and column of a syntax error, duplicate keys, empty or binary files.
 #pragma once
+#include <cstddef>
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -16,6 +17,8 @@ using Json = nlohmann::ordered_json;
 Json parse_scene_text(const std::string& text, const std::string& source);
 
 // The contents of a file; SceneError "path: cannot read: <OS error>" when it cannot be read.
+// Scene files are text of at most this size (the largest shipped scene is a few KiB).
+constexpr std::size_t max_scene_bytes = std::size_t{64} << 20;
 std::string read_text_file(const std::string& path);
 
 // The name of a JSON value's type as a user reads it ("a number", "an array", ...).

@@ -36,7 +36,6 @@ PhysicsParams read_physics(const Json& v) {
     p.gamma = f.number("gamma", p.gamma);
     p.coefsound = f.number("coefsound", p.coefsound);
     p.c0 = f.number("c0", p.c0);
-    if (p.c0 < 0) key_error("physics.c0", "must be >= 0 (0: derived from coefsound)");
     p.alpha = f.number("alpha", p.alpha);
     p.gravity = f.vec3("gravity", p.gravity);
     p.cfl = f.number("cfl", p.cfl);
@@ -86,12 +85,8 @@ unsigned read_faces(const Json& v, const std::string& path) {
     return faces;
 }
 
-int read_layers(Fields& f, int fallback, int least) {
-    const int layers = f.integer("layers", fallback);
-    if (layers < least || layers > 16)
-        key_error(f.path_of("layers"), "must be " + std::to_string(least) + " to 16 (got " + std::to_string(layers) + ")");
-    return layers;
-}
+// The range is checked by Scene::validate, for scenes from files and from code alike.
+int read_layers(Fields& f, int fallback) { return f.integer("layers", fallback); }
 
 std::string resolve_mesh_path(const Json& v, const std::string& key, const std::string& base_dir) {
     const std::string raw = read_string(v, key);
@@ -100,12 +95,8 @@ std::string resolve_mesh_path(const Json& v, const std::string& key, const std::
     if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;
     std::error_code ec;
     const fs::path abs = fs::absolute(p, ec);
-    const std::string resolved = (ec ? p : abs).lexically_normal().string();
-    // Checked here, before any particle is sampled, so a missing mesh is reported with its key.
-    std::ifstream probe(resolved);
-    if (!probe)
-        key_error(key, "cannot read \"" + resolved + "\": " + std::strerror(errno) + mesh_install_hint(resolved));
-    return resolved;
+    // Scene::validate checks that it can be read (before any particle is sampled).
+    return (ec ? p : abs).lexically_normal().string();
 }
 
 MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir) {
@@ -113,10 +104,9 @@ MeshObject read_mesh(const Json& v, const std::string& path, const std::string& 
     MeshObject m;
     m.path = resolve_mesh_path(f.require("path"), f.path_of("path"), base_dir);
     m.scale = f.number("scale", m.scale);
-    if (!(m.scale > 0)) key_error(f.path_of("scale"), "must be positive");
     m.translate = f.vec3("translate", m.translate);
     m.fluid = f.boolean("fluid", m.fluid);
-    m.layers = read_layers(f, m.layers, 1);
+    m.layers = read_layers(f, m.layers);
     return m;
 }
 
@@ -129,7 +119,7 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             if (const Json* faces = w.find("faces")) b.faces = read_faces(*faces, w.path_of("faces"));
-            b.layers = read_layers(w, b.layers, 1);
+            b.layers = read_layers(w, b.layers);
             s.walls.push_back(b);
         });
     if (const Json* boxes = f.find("boxes"))
@@ -138,7 +128,7 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
             SolidBox b;
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
-            b.layers = read_layers(w, b.layers, 0);
+            b.layers = read_layers(w, b.layers);
             s.solids.push_back(b);
         });
     if (const Json* meshes = f.find("meshes"))
@@ -146,25 +136,13 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
                          [&](const Json& e, const std::string& path) { s.meshes.push_back(read_mesh(e, path, base_dir)); });
 }
 
-bool valid_probe_name(const std::string& name) {
-    if (name.empty() || name.size() > 64) return false;
-    for (char c : name)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
-    return name != "." && name != "..";
-}
-
 void read_probes(const Json& v, Scene& s) {
-    std::set<std::string> names;
     for_each_element(v, "probes", [&](const Json& e, const std::string& path) {
         Fields f(e, path, {"name", "kind", "point"});
         Probe p;
         p.kind = f.choice("kind", Probe::Kind::pressure, {{"pressure", Probe::Kind::pressure}, {"height", Probe::Kind::height}});
         const bool height = p.kind == Probe::Kind::height;
         p.name = f.text("name", (height ? "height" : "pressure") + std::to_string(s.probes.size()));
-        // Probe names become file names (one CSV per probe).
-        if (!valid_probe_name(p.name))
-            key_error(f.path_of("name"), "\"" + p.name + "\" is not a usable name (letters, digits, _ - . only, at most 64)");
-        if (!names.insert(p.name).second) key_error(f.path_of("name"), "another probe is already named \"" + p.name + "\"");
         p.point = read_point(f.require("point"), f.path_of("point"), height ? 2 : 3);
         if (height) p.point[2] = 0;  // a height probe is a vertical line at (x, y)
         s.probes.push_back(p);
@@ -172,11 +150,12 @@ void read_probes(const Json& v, Scene& s) {
 }
 
 RunControl read_run(const Json& v) {
-    Fields f(v, "run", {"end_time", "output_every", "probe_every", "interaction"});
+    Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction"});
     RunControl r;
     r.end_time = f.number("end_time", r.end_time);
     r.output_every = f.number("output_every", r.output_every);
     r.probe_every = f.integer("probe_every", r.probe_every);
+    r.fixed_dt = f.number("fixed_dt", r.fixed_dt);
     r.interaction = f.choice("interaction", r.interaction,
                              {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, 
                               {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse}});

@@ -118,6 +118,7 @@ Json scene_to_document(const Scene& s) {
     run["end_time"] = s.run.end_time;
     run["output_every"] = s.run.output_every;
     run["probe_every"] = s.run.probe_every;
+    run["fixed_dt"] = s.run.fixed_dt;
     run["interaction"] = interaction_name(s.run.interaction);
     doc["run"] = run;
     return doc;

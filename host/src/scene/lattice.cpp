@@ -95,4 +95,57 @@ bool PointHash::any_within(const Vec3& x, double r) const {
     return false;
 }
 
+FootprintIndex::FootprintIndex(const std::vector<FluidBlock>& blocks, double pad) {
+    if (blocks.empty()) return;
+    double lo[2] = {blocks[0].min[0] - pad, blocks[0].min[1] - pad}, hi[2] = {blocks[0].max[0] + pad, blocks[0].max[1] + pad};
+    for (const auto& b : blocks)
+        for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], b.min[a] - pad), hi[a] = std::max(hi[a], b.max[a] + pad);
+    origin_[0] = lo[0];
+    origin_[1] = lo[1];
+    // Cells as small as the pad, coarsened until the grid and the entries stay bounded (at most
+    // 4 M cells and 32 M entries), whatever the blocks' sizes and number.
+    cell_ = std::max({pad, (hi[0] - lo[0]) * 1e-6, (hi[1] - lo[1]) * 1e-6, 1e-12});
+    auto span = [&](double a, double b, int axis, std::size_t& first, std::size_t& last) {
+        first = static_cast<std::size_t>(std::max(0.0, std::floor((a - lo[axis]) / cell_)));
+        last = static_cast<std::size_t>(std::max(0.0, std::floor((b - lo[axis]) / cell_)));
+    };
+    for (;;) {
+        nx_ = static_cast<std::size_t>(std::floor((hi[0] - lo[0]) / cell_)) + 1;
+        ny_ = static_cast<std::size_t>(std::floor((hi[1] - lo[1]) / cell_)) + 1;
+        if (static_cast<double>(nx_) * static_cast<double>(ny_) <= 4.0e6) {
+            double entries = 0;
+            for (const auto& b : blocks) {
+                std::size_t x0, x1, y0, y1;
+                span(b.min[0] - pad, b.max[0] + pad, 0, x0, x1);
+                span(b.min[1] - pad, b.max[1] + pad, 1, y0, y1);
+                entries += static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1);
+            }
+            if (entries <= 3.2e7) break;
+        }
+        cell_ *= 2.0;
+    }
+    starts_.assign(nx_ * ny_ + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<std::size_t> fill;
+        if (pass == 1) {
+            for (std::size_t c = 0; c < nx_ * ny_; ++c) starts_[c + 1] += starts_[c];
+            entries_.resize(starts_.back());
+            fill.assign(starts_.begin(), starts_.end() - 1);
+        }
+        for (std::size_t i = 0; i < blocks.size(); ++i) {
+            std::size_t x0, x1, y0, y1;
+            span(blocks[i].min[0] - pad, blocks[i].max[0] + pad, 0, x0, x1);
+            span(blocks[i].min[1] - pad, blocks[i].max[1] + pad, 1, y0, y1);
+            for (std::size_t y = y0; y <= y1 && y < ny_; ++y)
+                for (std::size_t x = x0; x <= x1 && x < nx_; ++x) {
+                    const std::size_t c = y * nx_ + x;
+                    if (pass == 0)
+                        ++starts_[c + 1];
+                    else
+                        entries_[fill[c]++] = i;
+                }
+        }
+    }
+}
+
 }  // namespace clsph::scene

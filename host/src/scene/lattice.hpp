@@ -3,6 +3,7 @@
 #pragma once
 #include "clsph/scene.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,31 @@ private:
     double cell_;
     std::vector<std::uint64_t> keys_;   // sorted cell keys, one per point
     std::vector<Vec3> points_;          // in key order
+};
+
+// Fluid blocks by their xy footprints grown by `pad`, bucketed on a grid: the blocks whose grown
+// footprint may hold a point (x, y), in increasing block index, without visiting every block, so
+// that building a scene of many blocks stays near-linear in blocks and particles.
+class FootprintIndex {
+public:
+    FootprintIndex(const std::vector<FluidBlock>& blocks, double pad);
+    // Calls f(block) for the candidates in increasing order until f returns false.
+    template <class F>
+    void each_candidate(double x, double y, F&& f) const {
+        if (starts_.empty()) return;
+        const double fx = std::floor((x - origin_[0]) / cell_), fy = std::floor((y - origin_[1]) / cell_);
+        if (!(fx >= 0 && fy >= 0 && fx < static_cast<double>(nx_) && fy < static_cast<double>(ny_))) return;
+        const std::size_t c = static_cast<std::size_t>(fy) * nx_ + static_cast<std::size_t>(fx);
+        for (std::size_t i = starts_[c]; i < starts_[c + 1]; ++i)
+            if (!f(entries_[i])) return;
+    }
+
+private:
+    double origin_[2] = {0, 0};
+    double cell_ = 1;
+    std::size_t nx_ = 0, ny_ = 0;
+    std::vector<std::size_t> starts_;   // per cell, its first entry (CSR), plus the end
+    std::vector<std::size_t> entries_;  // block indices, increasing within each cell
 };
 
 }  // namespace clsph::scene

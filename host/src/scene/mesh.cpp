@@ -42,6 +42,16 @@ void sample_mesh(const MeshObject& m, double dp, std::vector<Vec3>& boundary, st
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
     const double eps = on_surface * dp;
     std::int64_t first[3], last[3];
+    double points = 1.0;  // lattice points in the bounding box, checked before any is visited
+    for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(lo[k]) || !std::isfinite(hi[k]) || std::abs(lo[k]) > max_coordinate ||
+            std::abs(hi[k]) > max_coordinate)
+            throw SceneError(m.path + ": after scale and translate the mesh reaches beyond 1e9 m");
+        points *= (hi[k] - lo[k]) / dp + 1.0;
+    }
+    if (!(points < 1e9))
+        throw SceneError(m.path + ": the mesh's bounding box holds about " + std::to_string(static_cast<long long>(std::min(points, 9e18))) +
+                         " points of the dp lattice; at most 1e9 are sampled");
     for (int k = 0; k < 3; ++k) {
         first[k] = lattice_first(lo[k] - eps, dp);
         last[k] = lattice_last(hi[k] + eps, dp);

@@ -1,10 +1,12 @@
 #include "scene/mesh_obj.hpp"
 
 #include "clsph/error.hpp"
+#include "io/file.hpp"
 
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <numeric>
@@ -42,9 +44,13 @@ struct ObjReader {
     void vertex(const std::vector<std::string_view>& w, std::size_t line) {
         Vec3 v{};
         if (w.size() < 4) fail(line, "expected 3 coordinates after 'v'");
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 3; ++k) {
             if (!parse_double(w[k + 1], v[k]))
                 fail(line, "'" + std::string(w[k + 1]) + "' is not a number");
+            // NaN, infinity and coordinates no scene could hold (from_chars reads "nan" and "1e300").
+            if (!std::isfinite(v[k]) || std::abs(v[k]) > max_coordinate)
+                fail(line, "vertex coordinate '" + std::string(w[k + 1]) + "' is not a finite number of at most 1e9 in size");
+        }
         mesh.vertices.push_back(v);
     }
 
@@ -96,7 +102,14 @@ std::string mesh_install_hint(const std::string& path) {
     return "";
 }
 
+std::string mesh_file_problem(const std::string& path) {
+    std::string why = io::file_problem(path, max_mesh_bytes);
+    if (why == std::strerror(ENOENT)) why += mesh_install_hint(path);
+    return why;
+}
+
 TriangleMesh read_obj(const std::string& path) {
+    if (const std::string why = mesh_file_problem(path); !why.empty()) throw SceneError(path + ": cannot open mesh: " + why);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(path + ": cannot open mesh: " + std::strerror(errno) + mesh_install_hint(path));
     ObjReader r{path, {}, {}};

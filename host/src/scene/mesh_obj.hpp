@@ -15,8 +15,15 @@ struct TriangleMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
-// Throws SceneError naming the file (and the line) when it cannot be read, has no faces or an
-// index out of range. Faces that repeat a vertex (zero area) are dropped.
+// OBJ files are read only when they are regular files of at most this size.
+constexpr std::size_t max_mesh_bytes = std::size_t{512} << 20;
+// Vertex coordinates beyond this (m, before scale) are errors, as are NaN and infinity.
+constexpr double max_coordinate = 1e9;
+// Why `path` cannot be read as an OBJ file ("" when it can), with the install hint for a missing one.
+std::string mesh_file_problem(const std::string& path);
+
+// Throws SceneError naming the file (and the line) when it cannot be read, has no faces, a
+// coordinate that is not finite or out of range, or an index out of range. Faces that repeat a vertex (zero area) are dropped.
 TriangleMesh read_obj(const std::string& path);
 
 // Edges not shared by exactly two triangles, after welding vertices at the same position (OBJ

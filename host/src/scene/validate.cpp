@@ -1,0 +1,255 @@
+// Scene::validate: every check of a scene's values, for scenes read from JSON (the reader checks
+// only syntax and types, then calls this) and for scenes built in C++, so both paths accept the
+// same scenes and say the same thing about the rest. Cheap: O(blocks log blocks), no particle.
+#include "clsph/error.hpp"
+#include "clsph/scene.hpp"
+#include "scene/lattice.hpp"
+#include "scene/mesh_obj.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <iomanip>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+namespace clsph {
+namespace {
+
+std::string vec(const Vec3& v) {
+    std::ostringstream o;
+    o << "[" << v[0] << ", " << v[1] << ", " << v[2] << "]";
+    return o.str();
+}
+
+std::string num(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
+
+void require(bool ok, const std::string& key, const std::string& what) {
+    if (!ok) throw SceneError(key + ": " + what);
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+void require_finite(const Vec3& v, const std::string& key) { require(finite(v), key, "expected 3 finite numbers, got " + vec(v)); }
+
+void require_layers(int layers, int least, const std::string& key) {
+    require(layers >= least && layers <= 16, key,
+            "must be " + std::to_string(least) + " to 16 (got " + std::to_string(layers) + ")");
+}
+
+const char* face_name(int bit) {
+    static const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    return names[bit];
+}
+
+bool valid_probe_name(const std::string& name) {
+    if (name.empty() || name.size() > 64) return false;
+    for (char c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
+    return name != "." && name != "..";
+}
+
+// Lattice points of a fluid block (0 when dp is larger than the block, or the block lies between
+// lattice points), as a double so that absurd blocks do not overflow.
+double lattice_points(const FluidBlock& f, double dp) {
+    double n = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        const double first = std::ceil(f.min[k] / dp - 1e-9), last = std::floor(f.max[k] / dp + 1e-9);
+        n *= std::max(0.0, last - first + 1.0);
+    }
+    return n;
+}
+
+// The fluid blocks that overlap: sorted by their lower bound on the axis where they overlap
+// least, each block is compared only with those that start before it ends on that axis, so a
+// scene of many small blocks is checked in about n log n, not n^2.
+void check_overlaps(const std::vector<FluidBlock>& fluids) {
+    const std::size_t n = fluids.size();
+    if (n < 2) return;
+    std::vector<std::size_t> order(n);
+    int best_axis = 0;
+    double best_pairs = 0;
+    for (int a = 0; a < 3; ++a) {
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return fluids[x].min[a] < fluids[y].min[a]; });
+        std::vector<double> mins(n);
+        for (std::size_t i = 0; i < n; ++i) mins[i] = fluids[order[i]].min[a];
+        double pairs = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            pairs += static_cast<double>(std::lower_bound(mins.begin() + static_cast<std::ptrdiff_t>(i) + 1, mins.end(),
+                                                          fluids[order[i]].max[a]) -
+                                         (mins.begin() + static_cast<std::ptrdiff_t>(i) + 1));
+        if (a == 0 || pairs < best_pairs) best_pairs = pairs, best_axis = a;
+    }
+    const int a = best_axis;
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return fluids[x].min[a] < fluids[y].min[a]; });
+    // The earliest pair in the user's order (fluid[j] overlaps fluid[i], j < i, smallest i).
+    std::size_t first_i = n, first_j = n;
+    for (std::size_t p = 0; p < n; ++p) {
+        const auto& f = fluids[order[p]];
+        for (std::size_t q = p + 1; q < n && fluids[order[q]].min[a] < f.max[a]; ++q) {
+            const auto& g = fluids[order[q]];
+            bool overlap = true;
+            for (int k = 0; k < 3; ++k) overlap = overlap && f.min[k] < g.max[k] && g.min[k] < f.max[k];
+            if (!overlap) continue;
+            const std::size_t i = std::max(order[p], order[q]), j = std::min(order[p], order[q]);
+            if (i < first_i || (i == first_i && j < first_j)) first_i = i, first_j = j;
+        }
+    }
+    require(first_i == n, "fluid[" + std::to_string(first_i) + "]", "overlaps fluid[" + std::to_string(first_j) + "]");
+}
+
+// Where a box's boundary particles lie: walls grow outward by layers - 1 spacings on each
+// selected face; everything else lies within [min, max].
+void particle_extent(const BoxWalls& w, double dp, Vec3& lo, Vec3& hi) {
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = w.min[a] - ((w.faces >> (2 * a)) & 1u ? (w.layers - 1) * dp : 0.0);
+        hi[a] = w.max[a] + ((w.faces >> (2 * a + 1)) & 1u ? (w.layers - 1) * dp : 0.0);
+    }
+}
+
+}  // namespace
+
+void Scene::validate() const {
+    const auto& p = physics;
+    auto finite_pos = [](double v) { return std::isfinite(v) && v > 0; };
+    require(finite_pos(p.dp), "physics.dp", "must be a positive number (got " + std::to_string(p.dp) + ")");
+    require(finite_pos(p.hdp), "physics.hdp", "must be positive");
+    require(p.support() > p.dp, "physics.hdp",
+            "the kernel support 2 hdp dp = " + num(p.support()) + " m does not reach beyond dp = " + num(p.dp) +
+                " m, so no particle would have a neighbour (hdp must be more than 0.5; 2 is the default)");
+    require(finite_pos(p.rho0), "physics.rho0", "must be positive");
+    require(p.gamma == 7.0, "physics.gamma", "only 7 is supported (the kernels expand the power)");
+    require(finite_pos(p.coefsound), "physics.coefsound", "must be a positive number (c0 = coefsound sqrt(g H))");
+    require(std::isfinite(p.c0) && p.c0 >= 0, "physics.c0", "must be >= 0 (0: derived from coefsound)");
+    require(p.cfl > 0 && p.cfl <= 1.0, "physics.cfl", "must be in (0, 1]");
+    require(p.alpha >= 0 && std::isfinite(p.alpha), "physics.alpha", "must be >= 0");
+    require(p.delta >= 0 && std::isfinite(p.delta), "physics.delta", "must be >= 0");
+    require_finite(p.gravity, "physics.gravity");
+    require(p.density_min < 1.0 && p.density_max > 1.0 && p.density_min > 0 && std::isfinite(p.density_max),
+            "physics.density_min", "the density band must contain 1 (as a fraction of rho0)");
+
+    require_finite(domain.min, "domain.min");
+    require_finite(domain.max, "domain.max");
+    for (int k = 0; k < 3; ++k)
+        require(domain.max[k] > domain.min[k], "domain.max", "must be greater than domain.min on every axis");
+    require(domain.split_axis >= -1 && domain.split_axis <= 2, "domain.split_axis", "must be -1 (auto), 0, 1 or 2");
+
+    require(std::isfinite(run.end_time) && run.end_time >= 0, "run.end_time", "must be a finite time >= 0 s");
+    require(std::isfinite(run.output_every) && run.output_every > 0, "run.output_every", "must be a finite time > 0 s");
+    require(run.probe_every >= 1, "run.probe_every", "must be >= 1");
+    require(std::isfinite(run.fixed_dt) && run.fixed_dt >= 0, "run.fixed_dt",
+            "must be a finite time >= 0 s (0: the adaptive CFL step)");
+
+    const double tol = 1e-9 * p.dp;
+    auto inside = [&](const Vec3& a) {
+        for (int k = 0; k < 3; ++k)
+            if (!(a[k] >= domain.min[k] - tol && a[k] <= domain.max[k] + tol)) return false;
+        return true;
+    };
+    for (std::size_t i = 0; i < fluids.size(); ++i) {
+        const auto& f = fluids[i];
+        const std::string key = "fluid[" + std::to_string(i) + "]";
+        require_finite(f.min, key + ".min");
+        require_finite(f.max, key + ".max");
+        require_finite(f.velocity, key + ".velocity");
+        if (f.surface) require(std::isfinite(*f.surface), key + ".surface", "must be a finite height (m)");
+        for (int k = 0; k < 3; ++k) require(f.max[k] > f.min[k], key + ".max", "must be greater than min on every axis");
+        require(inside(f.min) && inside(f.max), key,
+                "block " + vec(f.min) + " - " + vec(f.max) + " is not inside the domain " + vec(domain.min) + " - " +
+                    vec(domain.max));
+        require(lattice_points(f, p.dp) >= 1, key,
+                "holds no fluid particle: no point of the dp lattice (dp = " + num(p.dp) + " m) lies in the block " +
+                    vec(f.min) + " - " + vec(f.max));
+    }
+    check_overlaps(fluids);
+
+    for (std::size_t i = 0; i < walls.size(); ++i) {
+        const auto& w = walls[i];
+        const std::string key = "boundaries.walls[" + std::to_string(i) + "]";
+        require_finite(w.min, key + ".min");
+        require_finite(w.max, key + ".max");
+        require_layers(w.layers, 1, key + ".layers");
+        for (int k = 0; k < 3; ++k) require(w.max[k] > w.min[k], key + ".max", "must be greater than min");
+        require(w.faces != 0 && w.faces <= all_faces, key + ".faces", "expected at least one face");
+        for (int bit = 0; bit < 6; ++bit)
+            require(!((w.faces >> bit) & 1u) || !domain.periodic[static_cast<std::size_t>(bit / 2)], key + ".faces",
+                    std::string("face ") + face_name(bit) + " is on the periodic axis " + "xyz"[bit / 2] +
+                        " (particles leaving one end come back at the other: a periodic axis has no walls)");
+        Vec3 lo, hi;
+        particle_extent(w, p.dp, lo, hi);
+        require(inside(lo) && inside(hi), key,
+                "its particles span " + vec(lo) + " - " + vec(hi) + ", outside the domain " + vec(domain.min) + " - " +
+                    vec(domain.max) + " (particles outside the domain are removed)");
+    }
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+        const auto& b = solids[i];
+        const std::string key = "boundaries.boxes[" + std::to_string(i) + "]";
+        require_finite(b.min, key + ".min");
+        require_finite(b.max, key + ".max");
+        require_layers(b.layers, 0, key + ".layers");
+        for (int k = 0; k < 3; ++k) require(b.max[k] > b.min[k], key + ".max", "must be greater than min");
+        require(inside(b.min) && inside(b.max), key,
+                "box " + vec(b.min) + " - " + vec(b.max) + " is not inside the domain " + vec(domain.min) + " - " +
+                    vec(domain.max) + " (particles outside the domain are removed)");
+    }
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const auto& m = meshes[i];
+        const std::string key = "boundaries.meshes[" + std::to_string(i) + "]";
+        require(!m.path.empty(), key + ".path", "expected the path of an OBJ file");
+        if (const std::string why = scene::mesh_file_problem(m.path); !why.empty())
+            throw SceneError(key + ".path: cannot read \"" + m.path + "\": " + why);
+        require(std::isfinite(m.scale) && m.scale > 0, key + ".scale", "must be positive");
+        require_finite(m.translate, key + ".translate");
+        require_layers(m.layers, 1, key + ".layers");
+    }
+
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        const auto& pr = probes[i];
+        const std::string key = "probes[" + std::to_string(i) + "]";
+        // Probe names become file names (one CSV per probe).
+        require(valid_probe_name(pr.name), key + ".name",
+                "\"" + pr.name + "\" is not a usable name (letters, digits, _ - . only, at most 64)");
+        require(names.insert(pr.name).second, key + ".name", "another probe is already named \"" + pr.name + "\"");
+        require_finite(pr.point, key + ".point");
+        require(inside(pr.kind == Probe::Kind::height ? Vec3{pr.point[0], pr.point[1], domain.min[2]} : pr.point),
+                key + ".point", "is outside the domain");
+    }
+
+    // Estimated particle counts before sampling, so an absurd dp fails fast and clearly.
+    double fluid = 0.0, boundary = 0.0;
+    for (const auto& f : fluids) fluid += lattice_points(f, p.dp);
+    for (const auto& w : walls) {
+        Vec3 lo, hi;
+        particle_extent(w, p.dp, lo, hi);
+        double whole = 1.0, inner = 1.0;
+        for (int k = 0; k < 3; ++k) whole *= (hi[k] - lo[k]) / p.dp + 1.0, inner *= (w.max[k] - w.min[k]) / p.dp;
+        boundary += std::max(0.0, whole - inner);
+    }
+    for (const auto& b : solids) {
+        double n = 1.0;
+        for (int k = 0; k < 3; ++k) n *= (b.max[k] - b.min[k]) / p.dp + 1.0;
+        boundary += n;
+    }
+    if (!(fluid < 1.0e9)) {
+        std::ostringstream o;  // a plain whole number, however large (an integer cast would overflow)
+        o << std::fixed << std::setprecision(0) << "gives about " << fluid << " fluid particles; clsph ids allow at most 1e9";
+        throw SceneError("physics.dp: " + o.str());
+    }
+    if (!(fluid + boundary < 1.0e9)) {
+        std::ostringstream o;
+        o << std::fixed << std::setprecision(0) << "gives about " << boundary
+          << " boundary particles (walls and boxes) beside the fluid; clsph ids allow at most 1e9 in all";
+        throw SceneError("physics.dp: " + o.str());
+    }
+    (void)sound_speed();
+}
+
+}  // namespace clsph
