@@ -12,6 +12,8 @@
 #include <clsph/version.hpp>
 
 #include <iostream>
+#include <optional>
+#include <string>
 
 namespace {
 
@@ -26,11 +28,23 @@ int list_devices_command(const std::string& spec) {
     return 0;
 }
 
+std::optional<std::string> steps_text;
+
+std::uint64_t parse_steps(const std::string& text) {
+    const bool digits = !text.empty() && text.size() <= 13 && text.find_first_not_of("0123456789") == std::string::npos;
+    const std::uint64_t n = digits ? std::stoull(text) : 0;
+    if (!digits || n == 0 || n > clsph::app::max_steps)
+        throw clsph::Error("--steps: expected a whole number of steps from 1 to " + std::to_string(clsph::app::max_steps) +
+                           ", got '" + text + "'");
+    return n;
+}
+
 void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("scene", a.scene_path, "scene file (JSON; schema in docs/scenes.md)")->required();
     run.add_option("--devices", a.devices, "devices to use: all|gpu|cpu|default|0,2|platform:NAME (default: $CLSPH_DEVICES, else every GPU, else every CPU)");
     run.add_option("--until", a.until, "simulated seconds to run to (default: the scene's run.end_time)");
-    run.add_option("--steps", a.steps, "stop after N steps (alone: run exactly N steps)");
+    // Read as text and checked here: a negative or enormous count is an error, never wrapped around.
+    run.add_option("--steps", steps_text, "stop after N steps (alone: run exactly N steps)")->type_name("N");
     run.add_option("--out", a.out, "output directory (default: out/<scene file name>)");
     run.add_option("--every", a.every, "simulated seconds between frames (default: the scene's run.output_every)");
     run.add_flag("--csv", a.csv, "also write every frame as CSV (id,type,x,y,z,vx,vy,vz,rho,p)");
@@ -68,8 +82,17 @@ int main(int argc, char** argv) {
     clsph::app::RunArgs run_args;
     add_run_options(*run, run_args);
 
-    CLI11_PARSE(app, argc, argv);
     try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version end here too (status 0); every mistake on the command line is bad
+        // input, exit status 1, like a bad scene.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "clsph: error: " << e.what() << " (clsph --help, clsph run --help)\n";
+        return clsph::app::exit_error;
+    }
+    try {
+        if (steps_text) run_args.steps = parse_steps(*steps_text);
         if (*devices) return list_devices_command(spec);
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);

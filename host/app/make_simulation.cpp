@@ -22,13 +22,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
         seams.faults.push_back(testing::parse_fault(v, "CLSPH_TEST_FAULT"));
         testing::set_seams(opts, std::move(seams));
     }
-    try {
-        return std::make_unique<Simulation>(scene, opts);
-    } catch (const SceneError& e) {
-        const std::string message = e.what();
-        if (message.compare(0, args.scene_path.size() + 1, args.scene_path + ":") == 0) throw;
-        throw SceneError(args.scene_path + ": " + message);
-    }
+    return with_scene_path(args, [&] { return std::make_unique<Simulation>(scene, opts); });
 }
 
 }  // namespace clsph::app

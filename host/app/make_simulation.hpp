@@ -4,12 +4,26 @@
 #pragma once
 #include "run_args.hpp"
 
+#include <clsph/error.hpp>
 #include <clsph/simulation.hpp>
 
 #include <memory>
+#include <string>
 
 namespace clsph::app {
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args);
+
+// Runs f(); a SceneError whose message does not begin with the scene file gets it in front.
+template <class F>
+decltype(auto) with_scene_path(const RunArgs& args, F&& f) {
+    try {
+        return f();
+    } catch (const SceneError& e) {
+        const std::string message = e.what();
+        if (message.compare(0, args.scene_path.size() + 1, args.scene_path + ":") == 0) throw;
+        throw SceneError(args.scene_path + ": " + message);
+    }
+}
 
 }  // namespace clsph::app

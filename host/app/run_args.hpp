@@ -25,6 +25,9 @@ struct RunArgs {
     std::vector<std::string> command_line;    // argv, for run.json
 };
 
+// The most steps --steps takes (a run of 10^12 steps is years on any machine; more is a typo).
+constexpr std::uint64_t max_steps = 1000000000000ULL;
+
 // Exit codes of `clsph run` (also in the README).
 enum ExitCode : int {
     exit_ok = 0,

@@ -208,14 +208,34 @@ private:
 
 }  // namespace
 
+// The checks before the first step found the initial state itself out of bounds (a density band
+// the hydrostatic start already leaves): a blow-up at step 1, reported as any blow-up is (exit 2,
+// run.json "failed", the state at t = 0 the message names in last_good.vtu).
+int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan& plan, const std::string& message) {
+    prepare_output_dir(plan.out_dir, args.force);
+    RunRecord record(plan.out_dir, RunIdentity{args.scene_path, args.overrides, args.command_line, {}, {}, scene.to_json()},
+                     scene.probes);
+    const Particles initial = scene.build_particles();
+    write_vtu(plan.out_dir + "/last_good.vtu", initial);
+    if (args.csv) write_csv(plan.out_dir + "/last_good.csv", initial);
+    record.finish("failed", StepInfo{0, 0.0, 0.0, initial.size(), 0, 0, 0.0, 0.0, 0.0}, message, exit_simulation_failed);
+    std::cerr << "clsph: error: " << message << "\nclsph: the last good state is in " << plan.out_dir << "/last_good.vtu\n";
+    return exit_simulation_failed;
+}
+
 int run_command(const RunArgs& args) {
     const auto start = clock::now();
     const Scene scene = load_scene(args.scene_path, args.overrides);
     const RunPlan plan = make_plan(args, scene);
-    if (args.dry_run) return dry_run(scene, args, plan);
+    if (args.dry_run) return with_scene_path(args, [&] { return dry_run(scene, args, plan); });
     check_output_dir(plan.out_dir, args.force);  // refuse early, before minutes of kernel builds
 
-    const auto simulation = make_simulation(scene, args);
+    std::unique_ptr<Simulation> simulation;
+    try {
+        simulation = make_simulation(scene, args);
+    } catch (const SimulationError& e) {
+        return initial_state_failed(scene, args, plan, e.what());
+    }
     Simulation& sim = *simulation;
     std::cout << "clsph: " << args.scene_path << " on";
     for (const auto& d : sim.device_names()) std::cout << ' ' << d;

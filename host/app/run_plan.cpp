@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 
 namespace clsph::app {
 
@@ -26,13 +27,21 @@ RunPlan make_plan(const RunArgs& args, const Scene& scene) {
                               : scene.run.end_time;
     plan.every = args.every.value_or(scene.run.output_every);
     plan.steps = args.steps;
-    if (!(plan.until >= 0.0)) throw Error("--until: expected a simulated time >= 0 s");
-    if (!(plan.every > 0.0) || !std::isfinite(plan.every))
-        throw Error(args.every ? "--every: expected a time > 0 s" : "the scene's run.output_every must be > 0 s");
-    if (args.steps && *args.steps == 0) throw Error("--steps: expected at least 1 step");
-    if (std::isfinite(plan.until) && plan.until / plan.every > 1e6)
-        throw Error("--every " + std::to_string(plan.every) + " s would write more than a million frames up to t = " +
-                    std::to_string(plan.until) + " s; choose a larger --every");
+    // Each value is named by where it came from: the option, or the scene key.
+    const std::string until_name = args.until ? "--until" : "run.end_time";
+    const std::string every_name = args.every ? "--every" : args.scene_path + ": run.output_every";
+    if (args.until && !(std::isfinite(*args.until) && *args.until >= 0.0))
+        throw Error("--until: expected a finite simulated time >= 0 s");
+    if (!(plan.every > 0.0) || !std::isfinite(plan.every)) throw Error(every_name + ": expected a finite time > 0 s");
+    if (args.steps && (*args.steps == 0 || *args.steps > max_steps))
+        throw Error("--steps: expected 1 to " + std::to_string(max_steps) + " steps");
+    if (std::isfinite(plan.until) && plan.until / plan.every > 1e6) {
+        std::ostringstream o;
+        o << every_name << ": " << plan.every << " s would write more than a million frames up to " << until_name
+          << " = " << plan.until << " s; choose a larger " << (args.every ? "--every" : "run.output_every") << " or a smaller "
+          << (args.until ? "--until" : "run.end_time");
+        throw Error(o.str());
+    }
     plan.out_dir = args.out ? *args.out : "out/" + std::filesystem::path(args.scene_path).stem().string();
     if (plan.out_dir.empty()) throw Error("--out: expected a directory");
     plan.collection_name = RunRecord::safe_name(scene.name) + ".pvd";

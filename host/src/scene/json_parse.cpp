@@ -104,31 +104,40 @@ std::size_t token_start(const std::string& text, std::size_t byte) {
 
 // Tracks where the parser is (object keys, array indices) so that a duplicate key can be named by
 // its key path; nlohmann itself keeps the last value of a duplicate key without a word.
-class DuplicateKeyCheck {
+// A SAX pass over the text that only looks for a key repeated within one object (which a DOM
+// parse would silently resolve to the last value) and names its key path. SAX rather than
+// nlohmann's parse callback, whose end of each object rescans the enclosing array: quadratic in a
+// scene of many fluid blocks.
+class DuplicateKeyCheck : public nlohmann::json_sax<Json> {
 public:
     explicit DuplicateKeyCheck(std::string source) : source_(std::move(source)) {}
 
-    bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, Json& parsed) {
-        using E = nlohmann::json::parse_event_t;
-        switch (event) {
-            case E::object_start: frames_.push_back({true, {}, {}, 0}); break;
-            case E::array_start: frames_.push_back({false, {}, {}, 0}); break;
-            case E::key: {
-                Frame& f = frames_.back();
-                f.key = parsed.get<std::string>();
-                if (!f.keys.insert(f.key).second)
-                    throw SceneError(source_ + ": " + path() + ": duplicate key (each key may appear once)");
-                break;
-            }
-            case E::value: next_element(); break;
-            case E::object_end:
-            case E::array_end:
-                frames_.pop_back();
-                next_element();
-                break;
-        }
+    bool null() override { return value(); }
+    bool boolean(bool) override { return value(); }
+    bool number_integer(number_integer_t) override { return value(); }
+    bool number_unsigned(number_unsigned_t) override { return value(); }
+    bool number_float(number_float_t, const string_t&) override { return value(); }
+    bool string(string_t&) override { return value(); }
+    bool binary(binary_t&) override { return value(); }
+    bool start_object(std::size_t) override {
+        frames_.push_back({true, {}, {}, 0});
         return true;
     }
+    bool key(string_t& k) override {
+        Frame& f = frames_.back();
+        f.key = k;
+        if (!f.keys.insert(f.key).second)
+            throw SceneError(source_ + ": " + path() + ": duplicate key (each key may appear once)");
+        return true;
+    }
+    bool end_object() override { return end(); }
+    bool start_array(std::size_t) override {
+        frames_.push_back({false, {}, {}, 0});
+        return true;
+    }
+    bool end_array() override { return end(); }
+    // The DOM parse before this one has reported syntax errors already.
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
 
 private:
     struct Frame {
@@ -140,6 +149,15 @@ private:
 
     void next_element() {
         if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    }
+    bool value() {
+        next_element();
+        return true;
+    }
+    bool end() {
+        frames_.pop_back();
+        next_element();
+        return true;
     }
 
     std::string path() const {
@@ -199,7 +217,9 @@ Json parse_scene_text(const std::string& text, const std::string& source) {
     }
     Json doc;
     try {
-        doc = Json::parse(text, DuplicateKeyCheck(source));
+        doc = Json::parse(text);
+        DuplicateKeyCheck duplicates(source);
+        Json::sax_parse(text, &duplicates);
     } catch (const nlohmann::json::parse_error& e) {
         throw SceneError(at(source, position_of(text, token_start(text, e.byte))) + parse_error_detail(e.what()));
     } catch (const nlohmann::json::exception& e) {
