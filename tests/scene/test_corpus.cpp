@@ -62,6 +62,26 @@ const std::vector<Case> corpus_cases = {
     {"mesh_missing.json", "boundaries.meshes[0].path: cannot read \""},
     {"mesh_negative_scale.json", "boundaries.meshes[0].scale: must be positive"},
     {"run_probe_every_zero.json", "run.probe_every: must be >= 1"},
+    // Accepted silently before (issue 14): nonsense the scene check now names.
+    {"coefsound_negative.json", "physics.coefsound: must be a positive number"},
+    {"dp_larger_than_block.json", "fluid[0]: holds no fluid particle: no point of the dp lattice (dp = 0.02 m) lies in the block"},
+    {"block_between_lattice_points.json", "fluid[0]: holds no fluid particle: no point of the dp lattice"},
+    {"walls_on_periodic_axis.json", "boundaries.walls[0].faces: face y- is on the periodic axis y"},
+    {"walls_outside_domain.json", "boundaries.walls[0]: its particles span [-0.04, -0.04, -0.04] - [1.13, 0.44, 0.84], outside the domain"},
+    {"support_below_dp.json", "physics.hdp: the kernel support 2 hdp dp = 0.016 m does not reach beyond dp = 0.02 m"},
+    {"fluid_inside_solid.json", "fluid[0]: overlaps the solid boundaries.boxes[0]"},
+    {"fixed_dt_negative.json", "run.fixed_dt: must be a finite time >= 0 s"},
+    {"mesh_is_directory.json", "boundaries.meshes[0].path: cannot read \"" },
+    {"mesh_dev_zero.json", "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
+    {"end_time_infinite_text.json", "run.end_time: expected a number, got a string"},
+};
+
+// Scenes whose mistake shows only when the particles are made (a block emptied by the walls
+// beside it, a mesh file's contents): Scene::build_particles names the key (and the file, line).
+const std::vector<Case> build_cases = {
+    {"fluid_within_dp_of_walls.json", "fluid[0]: no fluid particle is left in the block [0, 0, 0] - [0.01, 0.4, 0.4]: each of its 441 lattice points is within dp of a boundary particle"},
+    {"mesh_nan_vertex.json", "boundaries.meshes[0].path: "},
+    {"mesh_huge_vertex.json", "boundaries.meshes[0].path: "},
 };
 
 }  // namespace
@@ -77,6 +97,29 @@ TEST_CASE("every malformed scene in the corpus names its file and key") {
     }
 }
 
+TEST_CASE("scenes whose mistake shows when the particles are made name the key") {
+    for (const auto& c : build_cases) {
+        CAPTURE(c.file);
+        const clsph::Scene scene = clsph::Scene::from_file(corpus(c.file));  // the values are fine
+        const std::string message = error_of([&] { (void)scene.build_particles(); });
+        CAPTURE(message);
+        CHECK(message.rfind(c.expected, 0) == 0);
+    }
+    const std::string nan = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_nan_vertex.json")).build_particles(); });
+    CHECK(nan.find("nan_vertex.obj: line 8: vertex coordinate 'nan' is not a finite number") != std::string::npos);
+    const std::string huge = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_huge_vertex.json")).build_particles(); });
+    CHECK(huge.find("huge_vertex.obj: line 8: vertex coordinate '1e300' is not a finite number of at most 1e9") != std::string::npos);
+}
+
+TEST_CASE("only regular files are read as scenes: a directory or a device is named as such") {
+    const std::string dir = corpus("");
+    CHECK(error_of([&] { (void)clsph::Scene::from_file(dir); }) == dir + ": cannot read: it is a directory, not a file");
+    CHECK(error_of([] { (void)clsph::Scene::from_file("/dev/zero"); }) ==
+          "/dev/zero: cannot read: it is not a regular file (a device, a pipe or a socket)");
+    CHECK(error_of([] { (void)clsph::Scene::from_file("/dev/urandom"); }) ==
+          "/dev/urandom: cannot read: it is not a regular file (a device, a pipe or a socket)");
+}
+
 TEST_CASE("the corpus table covers every corpus file") {
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(corpus(""))) {
@@ -85,9 +128,10 @@ TEST_CASE("the corpus table covers every corpus file") {
         ++files;
         bool listed = false;
         for (const auto& c : corpus_cases) listed = listed || name == c.file;
+        for (const auto& c : build_cases) listed = listed || name == c.file;
         CHECK_MESSAGE(listed, name << " has no expected message in corpus_cases");
     }
-    CHECK(files == corpus_cases.size());
+    CHECK(files == corpus_cases.size() + build_cases.size());
 }
 
 TEST_CASE("a missing scene file names the file and the OS error") {
