@@ -11,10 +11,17 @@ export RUSTICL_ENABLE=${RUSTICL_ENABLE:-llvmpipe}
 "$build/host/app/clsph" devices --devices all
 (cd "$build" && ctest --output-on-failure --timeout 900)
 
-# The library as another program sees it: install, then find_package(clsph) from examples/hello.
+# The library as another program sees it: install, then find_package(clsph) from examples/hello,
+# with Eigen3 and nlohmann_json hidden (no public header uses them, so a host program needs neither).
 prefix="$PWD/$build/install"
+rm -rf "$prefix" "$build/example-hello"
 cmake --install "$build" --prefix "$prefix" >/dev/null
-cmake -S examples/hello -B "$build/example-hello" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S examples/hello -B "$build/example-hello" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_DISABLE_FIND_PACKAGE_Eigen3=ON -DCMAKE_DISABLE_FIND_PACKAGE_nlohmann_json=ON >/dev/null
+if grep -Eq "clsph_balance|clsph_warnings|Eigen|nlohmann" "$prefix"/lib*/cmake/clsph/*.cmake; then
+  echo "clsph: the installed package names an internal target or a private dependency" >&2
+  exit 1
+fi
 cmake --build "$build/example-hello" -j"$(nproc)"
 "$build/example-hello/clsph-hello"
 echo "clsph: all tests passed"
