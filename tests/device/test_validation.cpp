@@ -106,7 +106,7 @@ TEST_CASE("hydrostatic tank: probe pressures match rho0 g depth") {
     s.fluids.push_back(f);
     for (double depth : {0.075, 0.15, 0.225}) {
         Probe p;
-        p.name = "p at depth " + std::to_string(depth);
+        p.name = "p_depth_" + std::to_string(depth);  // probe names are file names: no spaces
         p.point = {W / 2, D / 2, H - depth};
         s.probes.push_back(p);
     }

@@ -29,7 +29,11 @@ Scene Scene::from_json_text(const std::string& text, const std::string& source_n
 std::string Scene::to_json() const { return scene::scene_to_document(*this).dump(2) + "\n"; }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-    scene::Json doc = scene::parse_scene_text(scene::read_text_file(path), path);
+    return scene::load_scene_text(scene::read_text_file(path), path, overrides);
+}
+
+Scene scene::load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+    scene::Json doc = scene::parse_scene_text(text, path);
     std::vector<std::string> keys;
     for (const auto& o : overrides) keys.push_back(scene::apply_override(doc, o, path));
     try {

@@ -6,6 +6,7 @@
 #include "scene/json_parse.hpp"
 
 #include <string>
+#include <vector>
 
 namespace clsph::scene {
 
@@ -20,6 +21,9 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin);
 
 // Every key with its value, defaults included, in the order docs/scenes.md lists them.
 Json scene_to_document(const Scene& scene);
+
+// load_scene on the text of the file at `path` (already read): what the fuzzer drives.
+Scene load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides);
 
 // The scene's name for a file ("scenes/dam_break.json" -> "dam_break").
 std::string scene_name_for(const std::string& path);
