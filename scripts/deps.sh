@@ -6,7 +6,7 @@ CLSPH_PACKAGES=(g++ cmake make ocl-icd-opencl-dev opencl-headers opencl-clhpp-he
   mesa-opencl-icd libeigen3-dev doctest-dev nlohmann-json3-dev libcli11-dev
   python3-matplotlib  # scripts/plot_surge.py: the surge-front plot of scripts/run.sh
   glmark2-data        # scenes/bunny.json: the Stanford bunny mesh (/usr/share/glmark2/models/bunny.obj)
-  clang)              # scripts/fuzz.sh: libFuzzer and the sanitizers (Debian's clang brings compiler-rt)
+  clang libclang-rt-14-dev)  # scripts/fuzz.sh: clang, and compiler-rt for libFuzzer and the sanitizers (only recommended by clang)
 missing=()
 for p in "${CLSPH_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
