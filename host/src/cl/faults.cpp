@@ -2,7 +2,7 @@
 
 #include "clsph/error.hpp"
 
-#include <sstream>
+#include <vector>
 
 namespace clsph {
 namespace testing {
@@ -28,8 +28,12 @@ const char* fault_call_name(FaultCall call) {
 Fault parse_fault(const std::string& text, const std::string& what) {
     const std::string usage = what + ": expected CALL:N or CALL:N:DEVICE (CALL enqueue, allocation, read or build; N >= 1), got '" + text + "'";
     std::vector<std::string> parts;
-    std::stringstream in(text);
-    for (std::string part; std::getline(in, part, ':');) parts.push_back(part);
+    for (std::size_t from = 0;;) {  // every part, empty ones included ("read:1:" has three)
+        const std::size_t colon = text.find(':', from);
+        parts.push_back(text.substr(from, colon == std::string::npos ? std::string::npos : colon - from));
+        if (colon == std::string::npos) break;
+        from = colon + 1;
+    }
     if (parts.size() < 2 || parts.size() > 3) throw Error(usage);
     auto whole = [&](const std::string& s) {
         if (s.empty() || s.size() > 12 || s.find_first_not_of("0123456789") != std::string::npos) throw Error(usage);
