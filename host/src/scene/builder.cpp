@@ -52,12 +52,28 @@ Particles Scene::build_particles() const {
     for (const auto& w : walls) scene::sample_walls(w, dp, boundary);
     for (const auto& b : solids) scene::sample_solid(b, dp, boundary);
     for (std::size_t m = 0; m < meshes.size(); ++m) {
+        const std::size_t b0 = boundary.size(), f0 = fluid.size();
         try {
             scene::sample_mesh(meshes[m], dp, boundary, fluid);
         } catch (const SceneError& e) {
             throw SceneError("boundaries.meshes[" + std::to_string(m) + "].path: " + e.what());
         }
         origin.resize(fluid.size(), fluids.size() + m);
+        // Where a mesh lands is known only once it is read: all of it must be in the domain.
+        auto outside = [&](const Vec3& x) {
+            for (int k = 0; k < 3; ++k)
+                if (!(x[k] >= domain.min[k] - 1e-9 * dp && x[k] <= domain.max[k] + 1e-9 * dp)) return true;
+            return false;
+        };
+        auto check = [&](const std::vector<Vec3>& points, std::size_t from) {
+            for (std::size_t i = from; i < points.size(); ++i)
+                if (outside(points[i]))
+                    require(false, "boundaries.meshes[" + std::to_string(m) + "]",
+                            "the mesh reaches outside the domain " + vec(domain.min) + " - " + vec(domain.max) +
+                                " (a particle at " + vec(points[i]) + "; particles outside the domain are removed)");
+        };
+        check(boundary, b0);
+        check(fluid, f0);
     }
 
     for (std::size_t b = 0; b < fluids.size(); ++b) {
