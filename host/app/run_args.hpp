@@ -33,7 +33,7 @@ enum ExitCode : int {
     exit_ok = 0,
     exit_error = 1,             // bad scene, device, output directory, I/O
     exit_simulation_failed = 2, // the physics blew up; the last good state was written
-    exit_device_failed = 3,     // a device failed mid-run; the last good state was written
+    exit_device_failed = 3,     // a device failed (mid-run: the last good state was written)
     exit_interrupted = 130,     // Ctrl-C: stopped cleanly after a final frame (128 + SIGINT)
     exit_terminated = 143,      // SIGTERM: the same as Ctrl-C (128 + SIGTERM)
 };
