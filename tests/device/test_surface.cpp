@@ -2,6 +2,8 @@
 // every device: a sphere and a torus sampled as signed distances. The mesh is closed (every edge
 // shared by exactly two triangles), oriented outwards, its area and enclosed volume within 1 % of
 // the exact values on the finest grid, and equal to the plain C++ reference given the same field.
+#include "clsph/error.hpp"
+#include "clsph/mesh.hpp"
 #include "surface/marching_cubes.hpp"
 #include "surface/mc_table.hpp"
 #include "support/test_devices.hpp"
@@ -10,6 +12,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <functional>
 #include <map>
@@ -230,5 +237,39 @@ TEST_CASE("samples exactly at the iso level make no degenerate triangle") {
             CHECK(t[0] != t[2]);
         }
     }
+}
+}
+
+TEST_SUITE("surface") {
+TEST_CASE("a mesh written as PLY reads back exactly; as VTP its arrays are where the header says") {
+    auto gen = test::rng(1802);
+    const Sampled s = sample([](double x, double y, double z) { return 0.6 - std::sqrt(x * x + y * y + z * z); }, 20, 1.0, gen);
+    const Mesh m = marching_cubes_reference(s.values, s.grid, 0.0f);
+    REQUIRE(!m.triangles.empty());
+    const std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp");
+    const std::string ply = dir + "/clsph_test_mesh_" + std::to_string(test::seed()) + ".ply";
+    write_ply(ply, m);
+    const TriangleMesh back = read_ply(ply);
+    CHECK(back.positions == m.positions);
+    CHECK(back.normals == m.normals);
+    CHECK(back.triangles == m.triangles);
+    std::remove(ply.c_str());
+
+    const std::string vtp = dir + "/clsph_test_mesh_" + std::to_string(test::seed()) + ".vtp";
+    write_vtp(vtp, m);
+    std::ifstream in(vtp, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::remove(vtp.c_str());
+    CHECK(text.find("NumberOfPoints=\"" + std::to_string(m.positions.size()) + "\"") != std::string::npos);
+    CHECK(text.find("NumberOfPolys=\"" + std::to_string(m.triangles.size()) + "\"") != std::string::npos);
+    // appended blocks: normals, positions (12 B per vertex each), connectivity (12 B per triangle),
+    // offsets (8 B per triangle), each after a UInt64 byte count
+    const auto start = text.find("   _") + 4;
+    const std::size_t payload = 4 * 8 + 24 * m.positions.size() + 20 * m.triangles.size();
+    CHECK(text.size() == start + payload + std::string("\n  </AppendedData>\n</VTKFile>\n").size());
+    std::uint64_t first = 0;
+    std::memcpy(&first, &text[start], 8);
+    CHECK(first == 12 * m.positions.size());
+    CHECK_THROWS_AS(write_ply(dir + "/clsph_bad.ply", TriangleMesh{{{0, 0, 0}}, {}, {{0, 1, 2}}}), Error);
 }
 }

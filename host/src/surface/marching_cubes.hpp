@@ -4,6 +4,7 @@
 // same algorithm in plain C++, the reference the tests compare the device against.
 #pragma once
 #include "cl/device.hpp"
+#include "clsph/mesh.hpp"
 #include "device/primitives.hpp"
 
 #include <array>
@@ -19,10 +20,7 @@ struct SampleGrid {
     std::size_t samples() const { return std::size_t{points[0]} * points[1] * points[2]; }
 };
 
-struct Mesh {
-    std::vector<std::array<float, 3>> positions, normals;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-};
+using Mesh = TriangleMesh;  // clsph/mesh.hpp
 
 class MarchingCubes {
 public:
