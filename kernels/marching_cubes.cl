@@ -1,5 +1,7 @@
-// Marching cubes on a grid of samples (numbering: marching_cubes.h). Points (i, j, k) of an
-// nx x ny x nz grid are at origin + spacing (i, j, k), sample p = i + nx (j + ny k). Four passes:
+// Marching cubes on a batch of n.w grids of samples (blocks), each nx x ny x nz (numbering:
+// marching_cubes.h). Sample (i, j, k) of block b is at origin_b + spacing (i, j, k), stored at
+// b nx ny nz + i + nx (j + ny k), block b's sample (0, 0, 0) being lattice point block_at[b] of a
+// lattice at `origin` with `spacing`; cubes and edges of a block never reach into another. Passes:
 //   mc_edges     per point and axis: 1 where the edge to the next point crosses the iso level
 //   (scan)       each crossing edge's vertex index: vertices are welded by construction
 //   mc_vertices  each crossing edge's vertex: position by linear interpolation, normal from the
@@ -12,9 +14,12 @@
 
 inline uint point_index(const uint4 n, const uint i, const uint j, const uint k) { return i + n.x * (j + n.y * k); }
 
-__kernel void mc_edges(const uint4 n, const float iso, __global const float* f, __global uint* crossing) {
-    const uint p = get_global_id(0);
-    if (p >= n.x * n.y * n.z) return;
+__kernel void mc_edges(const uint4 n, const float iso, __global const float* field, __global uint* crossing_all) {
+    const uint g = get_global_id(0), per = n.x * n.y * n.z;
+    if (g >= per * n.w) return;
+    const uint p = g % per;
+    __global const float* f = field + (g - p);
+    __global uint* crossing = crossing_all + 3u * (g - p);
     const uint i = p % n.x, j = (p / n.x) % n.y, k = p / (n.x * n.y);
     const bool in0 = f[p] >= iso;
     crossing[3u * p + 0u] = i + 1u < n.x && ((f[p + 1u] >= iso) != in0);
@@ -34,24 +39,31 @@ inline float3 gradient(const uint4 n, __global const float* f, const uint i, con
                     (f[point_index(n, i, j, kp)] - f[point_index(n, i, j, km)]) / ((float)(kp - km) * spacing));
 }
 
-__kernel void mc_vertices(const uint4 n, const float iso, const float4 origin, const float spacing,
-                          __global const float* f, __global const uint* crossing, __global const uint* vertex_of,
-                          __global float4* position, __global float4* normal) {
-    const uint e = get_global_id(0);
-    if (e >= 3u * n.x * n.y * n.z || !crossing[e]) return;
+__kernel void mc_vertices(const uint4 n, const float iso, const float4 origin, __global const int4* block_at,
+                          const float spacing,
+                          __global const float* field, __global const uint* crossing, __global const uint* vertex_of,
+                          __global float4* position, __global float4* normal, __global uint* edge_of_vertex) {
+    const uint ge = get_global_id(0), per = n.x * n.y * n.z;
+    if (ge >= 3u * per * n.w || !crossing[ge]) return;
+    const uint block = ge / (3u * per), e = ge - block * 3u * per;
+    __global const float* f = field + block * per;
+    const int4 at = block_at[block];  // lattice index of the block's sample (0, 0, 0)
     const uint p = e / 3u, axis = e % 3u;
     const uint i = p % n.x, j = (p / n.x) % n.y, k = p / (n.x * n.y);
     const uint i1 = i + (axis == 0u), j1 = j + (axis == 1u), k1 = k + (axis == 2u);
     const float f0 = f[p], f1 = f[point_index(n, i1, j1, k1)];
     const float t = clamp((iso - f0) / (f1 - f0), 1e-4f, 1.0f - 1e-4f);
-    const float3 x0 = origin.xyz + spacing * (float3)((float)i, (float)j, (float)k);
-    float3 x = x0;
-    if (axis == 0u) x.x += t * spacing;
-    if (axis == 1u) x.y += t * spacing;
-    if (axis == 2u) x.z += t * spacing;
+    // From the lattice index, not the block's corner: an edge on a face two blocks share gets the
+    // same position from both.
+    float3 l = (float3)((float)(at.x + (int)i), (float)(at.y + (int)j), (float)(at.z + (int)k));
+    if (axis == 0u) l.x += t;
+    if (axis == 1u) l.y += t;
+    if (axis == 2u) l.z += t;
+    const float3 x = origin.xyz + spacing * l;
     const float3 g = mix(gradient(n, f, i, j, k, spacing), gradient(n, f, i1, j1, k1, spacing), t);
     const float len = length(g);
-    const uint v = vertex_of[e];
+    const uint v = vertex_of[ge];
+    edge_of_vertex[v] = ge;
     position[v] = (float4)(x, 0.0f);
     normal[v] = (float4)(len > 0.0f ? -g / len : (float3)(0.0f), 0.0f);  // outwards: towards lower values
 }
@@ -65,16 +77,18 @@ inline uint cube_case(const uint4 n, const float iso, __global const float* f, c
     return c;
 }
 
-__kernel void mc_cubes(const uint4 n, const float iso, __global const float* f, __global const uchar* table,
+__kernel void mc_cubes(const uint4 n, const float iso, __global const float* field, __global const uchar* table,
                        __global uint* triangles_of) {
-    const uint q = get_global_id(0);
-    const uint cx = n.x - 1u, cy = n.y - 1u, cz = n.z - 1u;
-    if (q >= cx * cy * cz) return;
+    const uint gq = get_global_id(0);
+    const uint cx = n.x - 1u, cy = n.y - 1u, cz = n.z - 1u, per = cx * cy * cz;
+    if (gq >= per * n.w) return;
+    const uint q = gq % per;
+    __global const float* f = field + (gq / per) * n.x * n.y * n.z;
     const uint i = q % cx, j = (q / cx) % cy, k = q / (cx * cy);
     const uint c = cube_case(n, iso, f, i, j, k);
     uint count = 0u;
     while (count < CLSPH_MC_MAX_TRIANGLES && table[c * CLSPH_MC_CASE_ENTRIES + 3u * count] != 255u) ++count;
-    triangles_of[q] = count;
+    triangles_of[gq] = count;
 }
 
 // The vertex of cube edge e of the cube at (i, j, k): a grid edge (point, axis).
@@ -87,15 +101,18 @@ inline uint edge_vertex(const uint4 n, __global const uint* vertex_of, const uin
     return vertex_of[3u * point_index(n, i + di, j + dj, k + dk) + a];
 }
 
-__kernel void mc_triangles(const uint4 n, const float iso, __global const float* f, __global const uchar* table,
-                           __global const uint* first_triangle, __global const uint* vertex_of,
+__kernel void mc_triangles(const uint4 n, const float iso, __global const float* field, __global const uchar* table,
+                           __global const uint* first_triangle, __global const uint* vertex_of_all,
                            __global uint* triangles) {
-    const uint q = get_global_id(0);
-    const uint cx = n.x - 1u, cy = n.y - 1u, cz = n.z - 1u;
-    if (q >= cx * cy * cz) return;
+    const uint gq = get_global_id(0);
+    const uint cx = n.x - 1u, cy = n.y - 1u, cz = n.z - 1u, per = cx * cy * cz;
+    if (gq >= per * n.w) return;
+    const uint q = gq % per, block = gq / per;
+    __global const float* f = field + block * n.x * n.y * n.z;
+    __global const uint* vertex_of = vertex_of_all + 3u * block * n.x * n.y * n.z;
     const uint i = q % cx, j = (q / cx) % cy, k = q / (cx * cy);
     const uint c = cube_case(n, iso, f, i, j, k);
-    uint out = first_triangle[q];
+    uint out = first_triangle[gq];
     for (uint t = 0u; t < CLSPH_MC_MAX_TRIANGLES; ++t) {
         const uint base = c * CLSPH_MC_CASE_ENTRIES + 3u * t;
         if (table[base] == 255u) break;

@@ -4,6 +4,7 @@
 // the exact values on the finest grid, and equal to the plain C++ reference given the same field.
 #include "clsph/error.hpp"
 #include "clsph/mesh.hpp"
+#include "clsph/simulation.hpp"
 #include "surface/marching_cubes.hpp"
 #include "surface/mc_table.hpp"
 #include "support/test_devices.hpp"
@@ -271,5 +272,156 @@ TEST_CASE("a mesh written as PLY reads back exactly; as VTP its arrays are where
     std::memcpy(&first, &text[start], 8);
     CHECK(first == 12 * m.positions.size());
     CHECK_THROWS_AS(write_ply(dir + "/clsph_bad.ply", TriangleMesh{{{0, 0, 0}}, {}, {{0, 1, 2}}}), Error);
+}
+}
+
+namespace {
+Scene resting_block() {
+    Scene s;
+    s.name = "resting block";
+    s.physics.dp = 0.01;
+    s.physics.hdp = 2.0;
+    s.physics.coefsound = 10;
+    s.domain.min = {-0.04, -0.04, -0.04};
+    s.domain.max = {0.34, 0.14, 0.34};
+    s.domain.split_axis = 0;
+    BoxWalls w;
+    w.min = {0, 0, 0};
+    w.max = {0.3, 0.1, 0.3};
+    s.walls.push_back(w);
+    FluidBlock f;
+    f.min = {0, 0, 0};
+    f.max = {0.3, 0.1, 0.15};
+    s.fluids.push_back(f);
+    return s;
+}
+
+std::string device_list(std::size_t count) {
+    std::string s;
+    const auto devs = test::devices();
+    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
+    return s;
+}
+
+// Triangles as sorted triples of vertex positions, the triples sorted: a mesh's triangle set,
+// whatever the vertex numbering.
+std::vector<std::array<float, 9>> triangle_set(const TriangleMesh& m) {
+    std::vector<std::array<float, 9>> out;
+    for (const auto& t : m.triangles) {
+        std::array<std::array<float, 3>, 3> v{m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
+        std::sort(v.begin(), v.end());
+        out.push_back({v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+}  // namespace
+
+TEST_SUITE("surface") {
+TEST_CASE("the free surface of a fluid block at rest: closed, its top flat at the right height") {
+    const Scene scene = resting_block();
+    Options o;
+    o.devices = device_list(1);
+    Simulation sim(scene, o);
+    const TriangleMesh m = sim.surface();
+    REQUIRE(m.triangles.size() > 100);
+    const Measures got = measure(m);
+    CHECK(got.open_edges == 0);
+    CHECK(got.overused_edges == 0);
+    CHECK(got.inward_normals == 0);
+    // The top face, away from the walls: upward normals, at z = 0.15 within dp / 2, flat.
+    const double dp = scene.physics.dp;
+    double lo = 1e9, hi = -1e9;
+    std::size_t top = 0;
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const auto& x = m.positions[v];
+        if (m.normals[v][2] < 0.9 || x[0] < 3 * dp || x[0] > 0.3 - 3 * dp || x[1] < 3 * dp || x[1] > 0.1 - 3 * dp) continue;
+        ++top;
+        lo = std::min(lo, double(x[2]));
+        hi = std::max(hi, double(x[2]));
+    }
+    // The right height: the top of the fluid's volume, half a spacing above its top layer.
+    const Particles p = sim.particles();
+    double top_layer = -1e9, fluid = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.type[i] == ParticleType::fluid) {
+            top_layer = std::max(top_layer, p.position[i][2]);
+            fluid += 1;
+        }
+    const double height = top_layer + dp / 2;
+    MESSAGE(top << " top vertices between z = " << lo << " and " << hi << " (fluid top layer " << top_layer << ", dp " << dp << ")");
+    REQUIRE(top > 50);
+    CHECK(std::abs(lo - height) < dp / 2);
+    CHECK(std::abs(hi - height) < dp / 2);
+    CHECK(hi - lo < dp / 4);
+    // The enclosed volume is the fluid's (dp^3 per particle) within 10 %: the fraction falls off
+    // next to walls, whose particles are not fluid.
+    MESSAGE("enclosed volume " << got.volume << " m^3, fluid particles' " << fluid * dp * dp * dp);
+    CHECK(got.volume == doctest::Approx(fluid * dp * dp * dp).epsilon(0.10));
+}
+
+}
+
+// Three devices of one OpenCL implementation (CTest runs this suite with POCL_DEVICES="pthread
+// pthread pthread"): their particles are bitwise those of one device, so the surface must be too.
+TEST_SUITE("multi_bitwise") {
+TEST_CASE("the same scene meshed on one device and on three gives the same triangles") {
+    REQUIRE(test::devices().size() >= 3);
+    const Scene scene = resting_block();
+    Options one, three;
+    one.devices = device_list(1);
+    three.devices = device_list(3);
+    Simulation a(scene, one), b(scene, three);
+    for (int i = 0; i < 5; ++i) {
+        a.step();
+        b.step();
+    }
+    REQUIRE(b.shares().size() >= 2);
+    const TriangleMesh ma = a.surface(), mb = b.surface();
+    REQUIRE(ma.triangles.size() == mb.triangles.size());
+    REQUIRE(ma.positions.size() == mb.positions.size());
+    // Match every triangle of the three-device mesh to one of the one-device mesh with the same
+    // three vertices within `tol` (a hash of centroids: vertex numbering and order may differ).
+    // Samples next to a cut see the neighbour's ghosts, whose densities are those of the exchange
+    // (one kick behind), so vertices there agree to round-off, not bitwise.
+    const double tol = 1e-5 * scene.physics.dp, cell = 0.25 * scene.physics.dp;
+    auto centroid = [](const TriangleMesh& m, const std::array<std::uint32_t, 3>& t) {
+        std::array<double, 3> c{};
+        for (auto v : t)
+            for (std::size_t k = 0; k < 3; ++k) c[k] += m.positions[v][k] / 3.0;
+        return c;
+    };
+    auto cell_of = [&](const std::array<double, 3>& c) {
+        return std::array<long, 3>{std::lround(c[0] / cell), std::lround(c[1] / cell), std::lround(c[2] / cell)};
+    };
+    std::map<std::array<long, 3>, std::vector<std::size_t>> index;
+    for (std::size_t t = 0; t < ma.triangles.size(); ++t) index[cell_of(centroid(ma, ma.triangles[t]))].push_back(t);
+    auto same = [&](const std::array<std::uint32_t, 3>& ta, const std::array<std::uint32_t, 3>& tb) {
+        for (auto vb : tb) {
+            bool found = false;
+            for (auto va : ta) {
+                double d = 0;
+                for (std::size_t k = 0; k < 3; ++k) d = std::max(d, double(std::abs(ma.positions[va][k] - mb.positions[vb][k])));
+                found = found || d <= tol;
+            }
+            if (!found) return false;
+        }
+        return true;
+    };
+    std::size_t unmatched = 0;
+    for (const auto& tb : mb.triangles) {
+        const auto c = cell_of(centroid(mb, tb));
+        bool found = false;
+        for (long dz = -1; dz <= 1 && !found; ++dz)
+            for (long dy = -1; dy <= 1 && !found; ++dy)
+                for (long dx = -1; dx <= 1 && !found; ++dx) {
+                    const auto it = index.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == index.end()) continue;
+                    for (auto t : it->second) found = found || same(ma.triangles[t], tb);
+                }
+        unmatched += found ? 0 : 1;
+    }
+    MESSAGE(mb.triangles.size() << " triangles on three devices, " << unmatched << " without a twin on one device");
+    CHECK(unmatched == 0);
 }
 }

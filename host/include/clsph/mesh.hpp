@@ -16,6 +16,14 @@ struct TriangleMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;  // vertex indices, counter-clockwise seen from outside
 };
 
+// How Simulation::surface() extracts the free surface: the level `iso` of the fluid fraction
+// sum_j (m_j / rho_j) W(|x - x_j|) over fluid particles (1 inside the fluid, 0 outside), sampled on a
+// lattice of `spacing` from the domain's min corner, in blocks of 8^3 cubes near the surface only.
+struct SurfaceOptions {
+    double spacing = 0.0;  // m; 0: half the particle spacing dp
+    double iso = 0.5;
+};
+
 // VTK XML PolyData, appended raw binary: points (Float32 x 3), point data "normal" (when given),
 // polys (connectivity, offsets).
 void write_vtp(const std::string& path, const TriangleMesh& mesh);

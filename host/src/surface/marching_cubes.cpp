@@ -31,26 +31,47 @@ MarchingCubes::MarchingCubes(cl_rt::Device& device)
 
 Mesh MarchingCubes::run(const cl_rt::Buffer& field, const SampleGrid& grid, float iso) {
     check_grid(grid);
-    const cl_uint4 n{{grid.points[0], grid.points[1], grid.points[2], 0}};
-    const std::size_t points = grid.samples(), edges = 3 * points;
-    const std::size_t cubes = std::size_t{grid.points[0] - 1} * (grid.points[1] - 1) * (grid.points[2] - 1);
+    return run_blocks(field, grid.points, grid.origin, grid.spacing, {{0, 0, 0}}, iso).mesh;
+}
+
+BlockMeshes MarchingCubes::run_blocks(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                                      const std::array<double, 3>& origin, double spacing,
+                                      const std::vector<std::array<std::int32_t, 3>>& block_at, float iso) {
+    SampleGrid one;
+    one.points = points;
+    one.spacing = spacing;
+    check_grid(one);
+    const std::size_t blocks = block_at.size();
+    BlockMeshes out;
+    if (blocks == 0) return out;
+    const std::size_t per = one.samples(), points_all = per * blocks, edges = 3 * points_all;
+    const std::size_t cubes = std::size_t{points[0] - 1} * (points[1] - 1) * (points[2] - 1) * blocks;
+    if (static_cast<double>(edges) > 4.0e9) throw Error("marching cubes: too many blocks in one batch");
+    const cl_uint4 n{{points[0], points[1], points[2], cl_rt::checked_uint(blocks, "surface blocks")}};
     auto crossing = device_.alloc(edges * sizeof(cl_uint), "surface edge flags");
     auto vertex_of = device_.alloc((edges + 1) * sizeof(cl_uint), "surface vertex indices");
     set_args(edges_k_, n, iso, field, crossing);
-    device_.launch("surface.edges", edges_k_, points, wg_);
+    device_.launch("surface.edges", edges_k_, points_all, wg_);
     const std::size_t vertices = scan_.exclusive_total(crossing, vertex_of, edges);
 
-    Mesh mesh;
+    Mesh& mesh = out.mesh;
     if (vertices > 0) {
+        std::vector<cl_int> at(4 * blocks, 0);
+        for (std::size_t b = 0; b < blocks; ++b)
+            for (std::size_t k = 0; k < 3; ++k) at[4 * b + k] = block_at[b][k];
+        auto at_buf = device_.alloc(at.size() * sizeof(cl_int), "surface block positions");
+        device_.write(at_buf, at.data(), at.size());
+        const cl_float4 o{{static_cast<float>(origin[0]), static_cast<float>(origin[1]), static_cast<float>(origin[2]), 0.0f}};
         auto pos = device_.alloc(vertices * 4 * sizeof(float), "surface positions");
         auto nrm = device_.alloc(vertices * 4 * sizeof(float), "surface normals");
-        const cl_float4 origin{{static_cast<float>(grid.origin[0]), static_cast<float>(grid.origin[1]),
-                                static_cast<float>(grid.origin[2]), 0.0f}};
-        set_args(vertices_k_, n, iso, origin, static_cast<float>(grid.spacing), field, crossing, vertex_of, pos, nrm);
+        auto edge_of = device_.alloc(vertices * sizeof(cl_uint), "surface vertex edges");
+        set_args(vertices_k_, n, iso, o, at_buf, static_cast<float>(spacing), field, crossing, vertex_of, pos, nrm, edge_of);
         device_.launch("surface.vertices", vertices_k_, edges, wg_);
         std::vector<float> p(4 * vertices), q(4 * vertices);
         device_.read(pos, p.data(), p.size());
         device_.read(nrm, q.data(), q.size());
+        out.edge_of_vertex.resize(vertices);
+        device_.read(edge_of, out.edge_of_vertex.data(), vertices);
         mesh.positions.resize(vertices);
         mesh.normals.resize(vertices);
         for (std::size_t v = 0; v < vertices; ++v) {
@@ -72,7 +93,7 @@ Mesh MarchingCubes::run(const cl_rt::Buffer& field, const SampleGrid& grid, floa
         mesh.triangles.resize(triangles);
         for (std::size_t k = 0; k < triangles; ++k) mesh.triangles[k] = {t[3 * k], t[3 * k + 1], t[3 * k + 2]};
     }
-    return mesh;
+    return out;
 }
 
 Mesh marching_cubes_reference(const std::vector<float>& f, const SampleGrid& g, float iso) {

@@ -22,12 +22,25 @@ struct SampleGrid {
 
 using Mesh = TriangleMesh;  // clsph/mesh.hpp
 
+// Meshes of a batch of blocks: vertices are welded within a block; edge_of_vertex[v] says which
+// grid edge vertex v lies on: block b, sample p of the block, axis a as b (3 samples) + 3 p + a.
+struct BlockMeshes {
+    Mesh mesh;
+    std::vector<std::uint32_t> edge_of_vertex;
+};
+
 class MarchingCubes {
 public:
     explicit MarchingCubes(cl_rt::Device& device);
     // `field` holds grid.samples() floats, sample (i, j, k) at i + nx (j + ny k). Blocking: returns
     // the mesh on the host.
     Mesh run(const cl_rt::Buffer& field, const SampleGrid& grid, float iso);
+    // Blocks of `points` samples each on one lattice (sample (i, j, k) at origin + spacing (i, j, k)):
+    // block b's samples at b * (samples per block) in `field`, its sample (0, 0, 0) at lattice index
+    // block_at[b]. Blocking.
+    BlockMeshes run_blocks(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                           const std::array<double, 3>& origin, double spacing,
+                           const std::vector<std::array<std::int32_t, 3>>& block_at, float iso);
 
 private:
     cl_rt::Device& device_;
