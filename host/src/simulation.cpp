@@ -8,6 +8,7 @@
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
+#include "surface/extract.hpp"
 #include "multi/slab_driver.hpp"
 #include "clsph/testing.hpp"
 
@@ -189,6 +190,10 @@ std::vector<DeviceShare> Simulation::shares() const {
                        s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
                        s.physics->interaction()});
     return out;
+}
+
+TriangleMesh Simulation::surface(const SurfaceOptions& options) {
+    return surface::extract_surface(*impl_->driver, impl_->grid, impl_->scene, options);
 }
 
 std::vector<ProbeSample> Simulation::sample_probes() {
