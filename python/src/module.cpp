@@ -81,7 +81,7 @@ PYBIND11_MODULE(_clsph, m) {
     static py::exception<SceneError> scene_error(m, "SceneError", error.ptr());
     static py::exception<DeviceSelectionError> selection_error(m, "DeviceSelectionError", error.ptr());
     static py::exception<DeviceError> device_error(m, "DeviceError", error.ptr());
-    static py::exception<BuildError> build_error(m, "BuildError", error.ptr());
+    static py::exception<BuildError> build_error(m, "BuildError", device_error.ptr());  // a DeviceError, as in C++
     static py::exception<OutOfDeviceMemory> memory_error(m, "OutOfDeviceMemory", error.ptr());
     static py::exception<SimulationError> simulation_error(m, "SimulationError", error.ptr());
     for (PyObject* e : {error.ptr(), scene_error.ptr(), selection_error.ptr(), device_error.ptr(), build_error.ptr(),
@@ -94,10 +94,10 @@ PYBIND11_MODULE(_clsph, m) {
             scene_error(e.what());
         } catch (const DeviceSelectionError& e) {
             selection_error(e.what());
-        } catch (const DeviceError& e) {
-            device_error(e.what());
         } catch (const BuildError& e) {
             build_error(e.what());
+        } catch (const DeviceError& e) {
+            device_error(e.what());
         } catch (const OutOfDeviceMemory& e) {
             memory_error(e.what());
         } catch (const SimulationError& e) {
