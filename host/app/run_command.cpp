@@ -230,11 +230,18 @@ int run_command(const RunArgs& args) {
     if (args.dry_run) return with_scene_path(args, [&] { return dry_run(scene, args, plan); });
     check_output_dir(plan.out_dir, args.force);  // refuse early, before minutes of kernel builds
 
+    // From here on Ctrl-C and SIGTERM are caught: during set-up (kernel builds can take minutes)
+    // they end it before anything is written; a second one kills at once.
+    install_interrupt_handler();
     std::unique_ptr<Simulation> simulation;
     try {
         simulation = make_simulation(scene, args);
     } catch (const SimulationError& e) {
         return initial_state_failed(scene, args, plan, e.what());
+    }
+    if (interrupt_requested()) {
+        std::cerr << "clsph: " << signal_name(interrupt_signal()) << " during set-up: stopped before any output was written\n";
+        return interrupt_signal() == SIGTERM ? exit_terminated : exit_interrupted;
     }
     Simulation& sim = *simulation;
     std::cout << "clsph: " << args.scene_path << " on";
@@ -248,7 +255,6 @@ int run_command(const RunArgs& args) {
 
     // Only now, with the scene loaded and the devices ready, does the directory appear.
     prepare_output_dir(plan.out_dir, args.force);
-    install_interrupt_handler();
     Runner runner(sim, args, plan);
     return runner.run(seconds_since(start));
 }
