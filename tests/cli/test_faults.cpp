@@ -28,11 +28,12 @@ struct Faulted {
     std::string log;
 };
 
-Faulted run_with_fault(const std::string& fault, const std::string& devices, const std::string& out) {
+Faulted run_with_fault(const std::string& fault, const std::string& devices, const std::string& out,
+                       const std::vector<std::string>& more = {}) {
     ::setenv("CLSPH_TEST_FAULT", fault.c_str(), 1);
     Faulted r;
     // Frames every 0.0005 s, so frames were downloaded before the failure.
-    r.code = run(args({{"run", scene}, tiny, {"--devices", devices, "--until", "0.01", "--every", "0.0005", "--out", out}}), r.log);
+    r.code = run(args({{"run", scene}, tiny, {"--devices", devices, "--until", "0.01", "--every", "0.0005", "--out", out}, more}), r.log);
     ::unsetenv("CLSPH_TEST_FAULT");
     return r;
 }
@@ -81,6 +82,14 @@ TEST_CASE("failures on the last of several devices: exit 3 and the failing devic
         check_mid_run_failure(r, out, "clEnqueueNDRangeKernel", "CL_OUT_OF_RESOURCES (-5)");
         CHECK(r.log.find("clsph: error: step ") != std::string::npos);
         CHECK(r.log.find("on #" + last + " ") != std::string::npos);
+    }
+    SUBCASE("a launch on the middle device, every device holding a slab (--balance off)") {
+        // With neighbours on both sides, waiting for what the failed device will never send.
+        const std::string middle = std::to_string(n / 2);
+        const std::string out = work_dir("fault_enqueue_middle");
+        const auto r = run_with_fault("enqueue:300:" + middle, "all", out, {"--balance", "off"});
+        check_mid_run_failure(r, out, "clEnqueueNDRangeKernel", "CL_OUT_OF_RESOURCES (-5)");
+        CHECK(r.log.find("on #" + middle + " ") != std::string::npos);
     }
     SUBCASE("a read") {
         const std::string out = work_dir("fault_read_all");
