@@ -33,13 +33,15 @@ Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const Op
 }
 
 template <class F>
-void Device::call(std::optional<testing::FaultCall> kind, const char* cl_name, const std::string& what, F&& f) {
+void Device::call(std::optional<testing::FaultCall> kind, const char* cl_name, const char* doing, F&& f,
+                  const std::string* kernel) {
     try {
         if (kind) faults_->before(*kind, cl_name);
         const cl_int err = f();
         if (err != CL_SUCCESS) throw cl::Error(err, cl_name);
     } catch (const cl::Error& e) {
-        throw device_error(e, what, label_);
+        // The message is made only here: launches are the hot path.
+        throw device_error(e, kernel ? std::string(doing) + " '" + *kernel + "'" : std::string(doing), label_);
     }
 }
 
@@ -54,20 +56,23 @@ void Device::launch(const std::string& name, cl::Kernel& kernel, std::size_t glo
     if (global == 0) return;
     const std::size_t padded = (global + local - 1) / local * local;
     if (profiler_.enabled() && profiler_.host_timed()) {
-        call(std::nullopt, "clFinish", "waiting before kernel '" + name + "'", [&] { return queue_.finish(); });
+        call(std::nullopt, "clFinish", "waiting before kernel", [&] { return queue_.finish(); }, &name);
         const auto t0 = std::chrono::steady_clock::now();
-        call(testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel '" + name + "'", [&] {
-            return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local));
-        });
-        call(std::nullopt, "clFinish", "running kernel '" + name + "'", [&] { return queue_.finish(); });
+        call(
+            testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel",
+            [&] { return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local)); }, &name);
+        call(std::nullopt, "clFinish", "running kernel", [&] { return queue_.finish(); }, &name);
         profiler_.add_seconds(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         return;
     }
     cl::Event ev;
-    call(testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel '" + name + "'", [&] {
-        return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr,
-                                           profiler_.enabled() ? &ev : nullptr);
-    });
+    call(
+        testing::FaultCall::enqueue, "clEnqueueNDRangeKernel", "launching kernel",
+        [&] {
+            return queue_.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr,
+                                               profiler_.enabled() ? &ev : nullptr);
+        },
+        &name);
     if (profiler_.enabled()) profiler_.add_event(name, std::move(ev));
 }
 

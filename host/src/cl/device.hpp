@@ -95,9 +95,10 @@ private:
     void fill_bytes(Buffer& dst, const void* pattern, std::size_t pattern_size, std::size_t bytes, std::size_t offset);
     // Runs an enqueue `f` (returning its cl_int) as the OpenCL call `cl_name`: a fault planned for
     // it, a cl::Error the bindings throw and an error code returned all become one DeviceError
-    // naming `what`, the call and this device.
+    // naming what clsph was `doing` (and the `kernel`), the call and this device.
     template <class F>
-    void call(std::optional<testing::FaultCall> kind, const char* cl_name, const std::string& what, F&& f);
+    void call(std::optional<testing::FaultCall> kind, const char* cl_name, const char* doing, F&& f,
+              const std::string* kernel = nullptr);
 
     DeviceInfo info_;
     std::string label_;
