@@ -1,13 +1,6 @@
 // The facade behind clsph::Simulation: scene -> particles -> device pipeline -> steps.
-#include "clsph/simulation.hpp"
+#include "simulation_impl.hpp"
 
-#include "cl/device.hpp"
-#include "clsph/error.hpp"
-#include "device/cell_pipeline.hpp"
-#include "device/grid.hpp"
-#include "device/particle_store.hpp"
-#include "device/physics.hpp"
-#include "multi/slab_driver.hpp"
 #include "clsph/testing.hpp"
 
 #include <chrono>
@@ -17,60 +10,39 @@
 
 namespace clsph {
 
-struct Simulation::Impl {
-    Scene scene;
-    Options options;
-    std::vector<std::unique_ptr<cl_rt::Device>> devices;
-    device::Grid grid;
-    std::unique_ptr<multi::SlabDriver> driver;
-    StepInfo info;
-    double dt_next = 0.0;
-    Particles last_good;
-    std::size_t fluid_total = 0;
-    std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+void Simulation::Impl::fail(const multi::StepOutcome& k) {
+    auto& slab = driver->slabs()[k.bad_slab];
+    auto& d = *slab.device;
+    const auto index = static_cast<std::size_t>(k.kick.bad_index);
+    cl_uint id = 0;
+    float vr[4] = {0, 0, 0, 0};
+    d.read(slab.store->id, &id, 1, index);
+    d.read(slab.store->velrho, vr, 4, 4 * index);
+    fail_with(id, vr, dt_next, driver->slabs().size() > 1 ? d.label() : std::string());
+}
 
-    Impl(const Scene& s, const Options& o)
-        : scene(s),
-          options(o),
-          grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis, s.domain.periodic,
-               device::reach_for(s.physics.support(), s.physics.dp)) {}
+void Simulation::Impl::fail_with(std::uint32_t id, const float vr[4], double dt, const std::string& device) {
+    std::ostringstream o;
+    const bool fluid = (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
+    o << "step " << info.step + 1 << ", t = " << info.time + dt << " s: particle " << (id & CLSPH_ID_MASK) << " ("
+      << (fluid ? "fluid" : "boundary") << ") ";
+    if (!std::isfinite(vr[0]) || !std::isfinite(vr[1]) || !std::isfinite(vr[2]) || !std::isfinite(vr[3]))
+        o << "has a non-finite velocity or density";
+    else
+        o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << driver->params().rho_min << ", "
+          << driver->params().rho_max << "]";
+    if (!device.empty()) o << " on device " << device;
+    o << " (time step " << dt << " s). The run stopped; the last good state is at t = " << last_good_time << " s.";
+    throw SimulationError(o.str());
+}
 
-    double next_dt(const device::KickResult& k) const {
-        if (scene.run.fixed_dt > 0) return scene.run.fixed_dt;
-        const auto& sp = driver->params();
-        const double h = sp.h;
-        const double amax = std::sqrt(k.max_accel2), vmax = std::sqrt(k.max_speed2);
-        // Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)).
-        const double dt_force = amax > 0 ? std::sqrt(h / amax) : std::numeric_limits<double>::infinity();
-        const double dt_sound = h / (sp.c0 + vmax);
-        return scene.physics.cfl * std::min(dt_force, dt_sound);
-    }
-
-    [[noreturn]] void fail(const multi::StepOutcome& k) {
-        auto& slab = driver->slabs()[k.bad_slab];
-        auto& d = *slab.device;
-        const auto index = static_cast<std::size_t>(k.kick.bad_index);
-        cl_uint id = 0;
-        float vr[4] = {0, 0, 0, 0};
-        d.read(slab.store->id, &id, 1, index);
-        d.read(slab.store->velrho, vr, 4, 4 * index);
-        std::ostringstream o;
-        const bool fluid = (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
-        o << "step " << info.step + 1 << ", t = " << info.time + dt_next << " s: particle " << (id & CLSPH_ID_MASK)
-          << " (" << (fluid ? "fluid" : "boundary") << ") ";
-        if (!std::isfinite(vr[0]) || !std::isfinite(vr[1]) || !std::isfinite(vr[2]) || !std::isfinite(vr[3]))
-            o << "has a non-finite velocity or density";
-        else
-            o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << driver->params().rho_min << ", "
-              << driver->params().rho_max << "]";
-        if (driver->slabs().size() > 1) o << " on device " << d.label();
-        o << " (time step " << dt_next << " s). The run stopped; the last good state is at t = "
-          << last_good_time << " s.";
-        throw SimulationError(o.str());
-    }
-
-    double last_good_time = 0.0;
-};
+void Simulation::Impl::device_failed(const DeviceError& e, double dt) {
+    // A device failed mid-step: the device state is lost, the last good state is on the host.
+    std::ostringstream o;
+    o << "step " << info.step + 1 << ", t = " << info.time + dt << " s: " << e.what()
+      << ". The run stopped; the last good state is at t = " << last_good_time << " s.";
+    throw DeviceError(e.code(), o.str());
+}
 
 BalanceMode balance_mode_from_name(const std::string& name) {
     if (name == "dynamic") return BalanceMode::dynamic;
@@ -97,6 +69,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
                                                            : balance::Mode::off;
     dopt.balance_log = options.balance_log;
     dopt.headroom = options.capacity_headroom;
+    dopt.cell_headroom = options.cell_headroom;
     using Mode = cl_rt::EventSet::Mode;
     dopt.wait = options.wait == WaitMode::poll    ? Mode::poll
                 : options.wait == WaitMode::block ? Mode::block
@@ -113,22 +86,23 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     m.dt_next = m.next_dt(k.kick);
     m.last_good = p;
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
+    m.setup_ahead();
 }
 
 Simulation::~Simulation() = default;
 
 const StepInfo& Simulation::step() {
     auto& m = *impl_;
+    if (m.ahead) {
+        m.run_ahead(std::numeric_limits<double>::infinity(), {}, 1);
+        return m.info;
+    }
     const double dt = m.dt_next;
     multi::StepOutcome k;
     try {
         k = m.driver->step(dt);
     } catch (const DeviceError& e) {
-        // A device failed mid-step: the device state is lost, the last good state is on the host.
-        std::ostringstream o;
-        o << "step " << m.info.step + 1 << ", t = " << m.info.time + dt << " s: " << e.what()
-          << ". The run stopped; the last good state is at t = " << m.last_good_time << " s.";
-        throw DeviceError(e.code(), o.str());
+        m.device_failed(e, dt);
     }
     if (k.kick.bad_index >= 0) m.fail(k);
     m.info.step += 1;
@@ -145,6 +119,10 @@ const StepInfo& Simulation::step() {
 }
 
 void Simulation::run_until(double t, const std::function<void(const StepInfo&)>& on_step) {
+    if (impl_->ahead) {
+        impl_->run_ahead(t, on_step, 0);
+        return;
+    }
     while (impl_->info.time < t - 1e-12) {
         // Land on t exactly rather than overshooting it by most of a step.
         impl_->dt_next = std::min(impl_->dt_next, std::max(t - impl_->info.time, 1e-12));
@@ -165,6 +143,8 @@ Particles Simulation::particles() {
     m.last_good_time = m.info.time;
     return p;
 }
+
+bool Simulation::steps_ahead() const { return impl_->ahead; }
 
 const Particles& Simulation::last_good() const { return impl_->last_good; }
 const StepInfo& Simulation::info() const { return impl_->info; }

@@ -39,6 +39,15 @@ struct Options {
     BalanceMode balance = BalanceMode::dynamic;
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     WaitMode wait = WaitMode::callbacks;
+    // The step ahead (one device with cl_khr_fp64; docs/multi_device.md): dt chosen on the device,
+    // no count read back per step, each step's statistics read up to steps_ahead steps later.
+    // synchronous: the host waits for every step (the previous path; same states bitwise).
+    bool synchronous = false;
+    std::size_t steps_ahead = 4;    // steps in flight at most (the ring of results)
+    double cell_headroom = 0.25;    // spare capacity of the cell tables, whose bound the step ahead launches over
+    // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
+    // by the step callback has taken exactly that many steps.
+    std::uint64_t step_limit = 0;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
     std::shared_ptr<const testing::Seams> seams;
 };
@@ -124,8 +133,10 @@ public:
     std::vector<ProbeSample> sample_probes();
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
-    std::vector<KernelTime> host_phases() const;
-    std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)  // several devices: host wall time per step phase
+    std::vector<KernelTime> host_phases() const;  // host wall time per step phase
+    std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)
+    // Whether steps run ahead of the host (Options::synchronous off, one device with cl_khr_fp64).
+    bool steps_ahead() const;
     std::vector<MemoryReport> memory() const;
 
     struct Impl;
