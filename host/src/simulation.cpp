@@ -83,6 +83,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     m.info.fluid = k.kick.fluid;
     m.info.kinetic_energy = k.kick.kinetic_energy;
     m.info.max_speed = std::sqrt(k.kick.max_speed2);
+    m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.dt_next = m.next_dt(k.kick);
     m.last_good = p;
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
@@ -113,6 +114,7 @@ const StepInfo& Simulation::step() {
     m.info.fluid = k.kick.fluid;
     m.info.kinetic_energy = k.kick.kinetic_energy;
     m.info.max_speed = std::sqrt(k.kick.max_speed2);
+    m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.info.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
     m.dt_next = m.next_dt(k.kick);
     return m.info;

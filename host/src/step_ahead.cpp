@@ -64,6 +64,7 @@ void Simulation::Impl::apply(const device::StepRecord& r) {
     info.fluid = r.kick.fluid;
     info.kinetic_energy = r.kick.kinetic_energy;
     info.max_speed = std::sqrt(r.kick.max_speed2);
+    info.cells = r.cells;
     info.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     dt_next = r.next_dt;
     auto& cells = *driver->slabs()[0].cells;

@@ -75,6 +75,7 @@ struct StepInfo {
     std::size_t removed = 0;   // particles removed so far (left the domain)
     double kinetic_energy = 0.0;  // J, fluid particles
     double max_speed = 0.0;    // m/s
+    std::size_t cells = 0;     // non-empty grid cells after the step (one device; several: 0)
     double wall_seconds = 0.0; // since the run began
 };
 

@@ -37,7 +37,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
     device.fill(cell_count_, cl_uint{0}, 2);
-    reserve_cells(1024);
+    reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
 }
 
 void CellPipeline::reserve_cells(std::size_t k) {
