@@ -247,20 +247,32 @@ __kernel void scatter_cells(const uint n, const uint cap, __global const uint* k
     if (i == n - 1u && scan[n] <= cap) cell_start[scan[n]] = n;
 }
 
-// The step ahead (no count read back): the tables hold `cap` cells and every launch over cells runs
-// over all of them. The count K = scan[n] goes to count[0] (at most cap: what the tables hold) and
-// count[1] (as found); cells K+1..cap start at n, so that a cell beyond K is empty to every loop.
-// K > cap halts the step (step_clock.cl): the host grows the tables and redoes it.
-__kernel void bound_cells(const uint n, const uint cap, __global const uint* scan, __global uint* cell_start,
-                          __global uint* count, __global uint* halt) {
-    const uint c = get_global_id(0);
+// The step ahead (no count read back): scatter_cells and cell_of_particle in one launch, over
+// max(n, cap + 1), with the tables holding `cap` cells (every launch over cells runs over all of
+// them). The count K = scan[n] goes to count[0] (at most cap: what the tables hold) and count[1]
+// (as found); cells K+1..cap start at n, so that a cell beyond K is empty to every loop. K > cap
+// halts the step (step_clock.cl): the host grows the tables and redoes it. Each work-item reads
+// scan[i] before it rewrites it, and scan[n] is never rewritten.
+__kernel void tables_bounded(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
+                             __global uint* cell_key, __global uint* cell_start, __global uint* count,
+                             __global uint* halt) {
+    const uint i = get_global_id(0);
     const uint k = scan[n];
-    if (c == 0u) {
+    if (i == 0u) {
         count[0] = min(k, cap);
         count[1] = k;
         if (k > cap) atomic_or(halt, 4u);
     }
-    if (c > k && c <= cap) cell_start[c] = n;
+    if (i > k && i <= cap) cell_start[i] = n;
+    if (i >= n) return;
+    const uint c = scan[i];
+    const uint first = starts_cell(keys, i);
+    if (first && c < cap) {
+        cell_key[c] = keys[i];
+        cell_start[c] = i;
+    }
+    if (i == n - 1u && k <= cap) cell_start[k] = n;
+    scan[i] = c + first - 1u;
 }
 
 __kernel void cell_of_particle(const uint n, __global const uint* keys, __global uint* scan) {

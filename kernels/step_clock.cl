@@ -3,8 +3,8 @@
 // trip. The arithmetic is the host's (simulation.cpp, next_dt and run_until) in double, whose
 // divide and sqrt OpenCL rounds correctly, so both paths take bitwise the same steps.
 //
-// clock[0] time before the step under way (after end_step: after it)
-// clock[1] dt of the step under way            clock[2] the next CFL step, not yet clamped
+// clock[0] time before the step under way      clock[1] its dt (dt_f: the same as float)
+// clock[2] the next CFL step, not yet clamped
 // clock[3] the event the run lands on (a frame, --until; +inf: none)
 // *halt    non-zero: every kernel that changes the state does nothing (an event reached, the cell
 //          tables overflowed, a particle failed the checks); the host clears it
@@ -16,21 +16,15 @@
 #define HALT_CELLS 4u
 #define NO_PARTICLE 0xffffffffu
 
-// The step's dt: the CFL step, shortened to land on the event (as run_until does on the host).
-__kernel void begin_step(__global double* clock, __global float* dt_f, __global const uint* halt) {
-    if (get_global_id(0) != 0 || *halt != 0u) return;
-    const double dt = fmin(clock[2], fmax(clock[3] - clock[0], 1e-12));
-    clock[1] = dt;
-    dt_f[0] = (float)dt;
-}
-
-// After the kick: the reductions over its work-groups, time advanced, the next CFL step, the
-// record, and the counters reset for the next step (so the host enqueues no fills).
+// After the kick: the reductions over its work-groups, time advanced, the next CFL step and the
+// next step's dt (the CFL step shortened to land on the event, as run_until does on the host;
+// Physics::set_clock computes the first one on the host), the record, and the counters reset for
+// the next step (so the host enqueues no fills).
 __kernel void end_step(const uint groups, const double cfl, const double h, const double c0, const double fixed_dt,
                        __global const float4* partials, __global uint* bad, __global const uint* ids,
                        __global const float4* velrho, __global uint* settle_counters,
-                       __global const uint* cell_count, __global double* clock, __global uint* halt,
-                       __global double* record) {
+                       __global const uint* cell_count, __global double* clock, __global float* dt_f,
+                       __global uint* halt, __global double* record) {
     if (get_global_id(0) != 0) return;
     const uint halted = *halt;
     record[15] = (double)cell_count[1];
@@ -55,9 +49,10 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
     const double t = clock[0] + clock[1];
     clock[0] = t;
     clock[2] = next;
+    const double dt_next = fmin(next, fmax(clock[3] - t, 1e-12));
     const uint b = *bad;
     record[0] = t;
-    record[1] = clock[1];
+    record[1] = clock[1];  // before it becomes the next step's
     record[2] = vmax2;
     record[3] = amax2;
     record[4] = energy;
@@ -74,6 +69,8 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
     record[13] = (double)settle_counters[0];
     record[14] = (double)settle_counters[1];
     record[16] = fluid;
+    clock[1] = dt_next;
+    dt_f[0] = (float)dt_next;
     settle_counters[0] = settle_counters[1] = settle_counters[2] = 0u;
     *bad = NO_PARTICLE;
     if (b != NO_PARTICLE) *halt = HALT_BAD;

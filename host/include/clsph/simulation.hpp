@@ -43,7 +43,7 @@ struct Options {
     // no count read back per step, each step's statistics read up to steps_ahead steps later.
     // synchronous: the host waits for every step (the previous path; same states bitwise).
     bool synchronous = false;
-    std::size_t steps_ahead = 4;    // steps in flight at most (the ring of results)
+    std::size_t steps_ahead = 8;    // steps in flight at most (the ring of results)
     double cell_headroom = 0.25;    // spare capacity of the cell tables, whose bound the step ahead launches over
     // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
     // by the step callback has taken exactly that many steps.

@@ -33,7 +33,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     edge_gather_k_ = k("edge_gather");
     edge_place_k_ = k("edge_place");
     arrival_keys_k_ = k("arrival_keys");
-    bound_k_ = k("bound_cells");
+    tables_bounded_k_ = k("tables_bounded");
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
     device.fill(cell_count_, cl_uint{0}, 2);
@@ -211,12 +211,8 @@ void CellPipeline::enqueue_tables_bounded(ParticleStore& ps, std::size_t n, cons
     set_args(flag_k_, n, ps.keys, ps.vals);
     d.launch("cells.flag", flag_k_, n, wg_);
     scan_.exclusive(ps.vals, ps.vals, n);
-    set_args(bound_k_, n, cap, ps.vals, cell_start_, cell_count_, halt);
-    d.launch("cells.bound", bound_k_, cap + 1, wg_);
-    set_args(scatter_k_, n, cap, ps.keys, ps.vals, cell_key_, cell_start_);
-    d.launch("cells.scatter", scatter_k_, n, wg_);
-    set_args(cell_of_k_, n, ps.keys, ps.vals);
-    d.launch("cells.cell_of", cell_of_k_, n, wg_);
+    set_args(tables_bounded_k_, n, cap, ps.keys, ps.vals, cell_key_, cell_start_, cell_count_, halt);
+    d.launch("cells.scatter_bounded", tables_bounded_k_, std::max(n, cap + 1), wg_);
     set_args(ranges_bounded_k_, cap, grid_.params(), cell_count_, cell_key_, cell_start_, ranges_);
     d.launch("cells.ranges", ranges_bounded_k_, cap, wg_);
     cells_ = cap;

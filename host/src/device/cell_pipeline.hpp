@@ -141,7 +141,7 @@ private:
     Scan scan_;
     std::size_t wg_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
-    cl::Kernel bound_k_, ranges_bounded_k_;
+    cl::Kernel tables_bounded_k_, ranges_bounded_k_;
     cl_rt::Buffer cell_count_;
     double cell_headroom_ = 0.25;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;

@@ -87,7 +87,6 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     const std::string ext = device.cl_device().getInfo<CL_DEVICE_EXTENSIONS>();
     has_clock_ = ext.find("cl_khr_fp64") != std::string::npos;
     if (has_clock_) {
-        begin_k_ = device.kernel("step_clock.cl", "begin_step", "");
         end_k_ = device.kernel("step_clock.cl", "end_step", "");
         clock_ = device.alloc(4 * sizeof(double), "step clock");
         record_ = device.alloc(StepRecord::kDoubles * sizeof(double), "step record");
@@ -185,22 +184,21 @@ void Physics::enqueue_kick_on_clock(ParticleStore& ps) {
 }
 
 void Physics::set_clock(double time, double next_dt, double event) {
+    // The first step's dt as end_step computes the ones after it (and run_until on the host).
+    const double dt = std::min(next_dt, std::max(event - time, 1e-12));
     clock_host_.resize(device_, 4);
     clock_host_[0] = time;
-    clock_host_[1] = 0.0;
+    clock_host_[1] = dt;
     clock_host_[2] = next_dt;
     clock_host_[3] = event;
     device_.write(clock_, clock_host_.data(), 4);
+    const float f = static_cast<float>(dt);
+    device_.write(dt_f_, &f, 1);
+    dt_written_valid_ = false;  // the clock writes dt_f from here on
     clear_halt();
 }
 
 void Physics::clear_halt() { device_.fill(halt_, cl_uint{0}, 1); }
-
-void Physics::enqueue_begin_step() {
-    dt_written_valid_ = false;  // the clock writes dt_f from here on
-    cl_rt::set_args(begin_k_, clock_, dt_f_, halt_);
-    device_.launch("clock.begin", begin_k_, 1, 1);
-}
 
 void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, double* record,
                                cl_rt::EventSet& done) {
@@ -211,7 +209,7 @@ void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cell
     end_k_.setArg(i++, static_cast<double>(sp_.c0));
     end_k_.setArg(i++, fixed_dt_);
     for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{&partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(),
-                                   &clock_, &halt_, &record_})
+                                   &clock_, &dt_f_, &halt_, &record_})
         end_k_.setArg(i++, b->get());
     device_.launch("clock.end", end_k_, 1, 1);
     device_.read_async(record_, record, StepRecord::kDoubles * sizeof(double), 0, done);

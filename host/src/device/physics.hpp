@@ -65,11 +65,11 @@ public:
     void enqueue_kick_on_clock(ParticleStore& ps);
 
     // The device's clock (kernels/step_clock.cl): needs cl_khr_fp64, so that it takes the host's
-    // steps bitwise. set_clock: time, the next CFL step and the event to land on; clears the halt.
+    // steps bitwise. set_clock: time, the next CFL step and the event to land on (the first step's
+    // dt from them; end_step chooses each next one); clears the halt.
     bool has_clock() const { return has_clock_; }
     void set_clock(double time, double next_dt, double event);
     void clear_halt();
-    void enqueue_begin_step();
     // The reductions, the clock advanced, the record read into `record` (StepRecord::kDoubles
     // doubles of pinned memory that must stay put until `done` is waited for).
     void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, double* record, cl_rt::EventSet& done);
@@ -89,7 +89,7 @@ private:
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;
-    cl::Kernel begin_k_, end_k_;
+    cl::Kernel end_k_;
     bool has_clock_ = false;
     void write_dt(double dt);  // the synchronous path: dt_f from the host
     float dt_written_ = 0;

@@ -12,7 +12,6 @@ namespace clsph::multi {
 void SlabDriver::enqueue_step_ahead(double* record, cl_rt::EventSet& done) {
     apply_seams();  // tests: a simulated failure
     Slab& s = slabs_[0];
-    s.physics->enqueue_begin_step();
     s.physics->kick_drift_on_clock(*s.store);
     tables_forces_kick_ahead(record, done);
     ++steps_;
