@@ -108,7 +108,13 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
             }
         }
         if (in_flight.empty()) break;
-        const auto r = wait_oldest();
+        device::StepRecord r;
+        try {
+            r = wait_oldest();
+        } catch (const DeviceError& e) {
+            in_flight.clear();  // the device's state is lost: the step after the last one taken failed
+            device_failed(e, std::min(dt_next, std::max(t - info.time, 1e-12)));
+        }
         if (r.halt & device::kHaltCells) {
             // More non-empty cells than the tables hold: this step and the ones after it changed
             // nothing (kernels/step_clock.cl). Grow the tables and take this step again.
