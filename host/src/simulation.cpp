@@ -36,6 +36,19 @@ void Simulation::Impl::fail_with(std::uint32_t id, const float vr[4], double dt,
     throw SimulationError(o.str());
 }
 
+void Simulation::Impl::check_dt_collapse() {
+    if (scene.run.fixed_dt > 0) return;
+    const auto& sp = driver->params();
+    const double acoustic = scene.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0);
+    if (dt_next >= options.dt_collapse * acoustic) return;
+    std::ostringstream o;
+    o << "step " << info.step << ", t = " << info.time << " s: the time step collapsed to " << dt_next
+      << " s (below " << options.dt_collapse << " of the acoustic step " << acoustic << " s; max |v| = " << info.max_speed
+      << " m/s): the accelerations blew up. The run stopped; the last good state is at t = " << last_good_time
+      << " s.";
+    throw SimulationError(o.str());
+}
+
 void Simulation::Impl::device_failed(const DeviceError& e, double dt) {
     // A device failed mid-step: the device state is lost, the last good state is on the host.
     std::ostringstream o;
@@ -117,6 +130,7 @@ const StepInfo& Simulation::step() {
     m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.info.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
     m.dt_next = m.next_dt(k.kick);
+    m.check_dt_collapse();
     return m.info;
 }
 

@@ -59,6 +59,9 @@ struct Simulation::Impl {
     // step after info (whose dt was `dt`).
     [[noreturn]] void fail_with(std::uint32_t id, const float vr[4], double dt, const std::string& device);
 
+    // A CFL step below Options::dt_collapse of the acoustic step at rest: both paths stop there
+    // with the error a blow-up gives. Event clamps do not count: only the CFL step is checked.
+    void check_dt_collapse();
     // The step ahead (step_ahead.cpp).
     struct Slot {
         cl_rt::PinnedArray<double> record;

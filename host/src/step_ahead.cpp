@@ -132,6 +132,12 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
             fail_with(r.bad_id, r.bad_velrho, r.dt, std::string());
         }
         apply(r);
+        try {
+            check_dt_collapse();
+        } catch (const SimulationError&) {
+            settle_in_flight(false);
+            throw;
+        }
         if (!on_step) continue;
         try {
             on_step(info);

@@ -231,3 +231,28 @@ TEST_CASE("particles leaving the domain while steps are in flight: removed at th
     CHECK(differing(states[0], states[1]) == 0);
 }
 }
+
+TEST_SUITE("step_ahead") {
+TEST_CASE("a collapsing time step stops both paths at the same step with the same error") {
+    // dt_collapse 0.97: the CFL step falls below 0.97 of the acoustic step at rest as soon as
+    // the fastest particle passes 3 % of c0, some steps into the collapse of the column.
+    Scene scene = probed_dam();
+    std::string messages[2];
+    std::uint64_t steps[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        Options o = options(k == 0);
+        o.dt_collapse = 0.97;
+        auto sim = make(scene, o);
+        try {
+            sim->run_until(0.05, [&](const StepInfo& s) { steps[k] = s.step; });
+        } catch (const SimulationError& e) {
+            messages[k] = e.what();
+        }
+    }
+    INFO(messages[0]);
+    REQUIRE(messages[0].find("the time step collapsed") != std::string::npos);
+    CHECK(steps[0] > 5);
+    CHECK(messages[1] == messages[0]);
+    CHECK(steps[1] == steps[0]);
+}
+}

@@ -45,6 +45,9 @@ struct Options {
     bool synchronous = false;
     std::size_t steps_ahead = 8;    // steps in flight at most (the ring of results)
     double cell_headroom = 0.25;    // spare capacity of the cell tables, whose bound the step ahead launches over
+    // A CFL step below this fraction of the acoustic step at rest (cfl h / c0) stops the run with a
+    // SimulationError, as a blow-up does (1e-3: accelerations of ~1e6 c0^2/h). Not with fixed_dt.
+    double dt_collapse = 1e-3;
     // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
     // by the step callback has taken exactly that many steps.
     std::uint64_t step_limit = 0;
