@@ -62,11 +62,27 @@ struct Simulation::Impl {
     // A CFL step below Options::dt_collapse of the acoustic step at rest: both paths stop there
     // with the error a blow-up gives. Event clamps do not count: only the CFL step is checked.
     void check_dt_collapse();
+    // The probe points of the scene, each probe's first, and the height probes' spacing.
+    struct ProbePoints {
+        std::vector<std::array<double, 3>> points;
+        std::vector<std::size_t> first;
+        double dz = 0;
+    };
+    ProbePoints probe_points() const;
+
     // The step ahead (step_ahead.cpp).
     struct Slot {
         cl_rt::PinnedArray<double> record;
+        cl_rt::PinnedArray<float> probe;  // the probe sums, after a probe step
+        bool probed = false;
         cl_rt::EventSet done;
     };
+    std::vector<std::array<float, 2>> probed;  // the sums after step probed_step
+    std::uint64_t probed_step = ~std::uint64_t{0};
+    bool probe_step(std::uint64_t step) const {
+        return !scene.probes.empty() && scene.run.probe_every > 0 && step % static_cast<std::uint64_t>(scene.run.probe_every) == 0;
+    }
+    void enqueue_probe(std::size_t slot, std::uint64_t step);
     bool ahead = false;
     cl_rt::EventSet::Mode wait_mode = cl_rt::EventSet::Mode::callbacks;
     std::vector<std::unique_ptr<Slot>> ring;

@@ -2,8 +2,9 @@
 // Options::steps_ahead steps are enqueued at once, each choosing its dt on the device
 // (kernels/step_clock.cl) and leaving its record in a ring of pinned slots; the host takes the
 // records in order, a few steps behind, and runs the step callback for each. It waits for the
-// device only at events: a frame or --until (run_until's t), a probe step, the step limit, and the
-// last steps before t, where it cannot be sure the next step is still needed.
+// device only at events: a frame or --until (run_until's t), the step limit, and the last steps
+// before t, where it cannot be sure the next step is still needed. Probe steps sample the probes
+// in the queue (enqueue_probe), so the callback finds them without a wait.
 #include "simulation_impl.hpp"
 
 #include <algorithm>
@@ -17,9 +18,12 @@ void Simulation::Impl::setup_ahead() {
     wait_mode = options.wait == WaitMode::poll ? Mode::poll : options.wait == WaitMode::block ? Mode::block : Mode::callbacks;
     if (!ahead) return;
     auto& device = *driver->slabs()[0].device;
+    const auto points = probe_points().points;
+    driver->slabs()[0].physics->set_probe_points(points);
     for (std::size_t k = 0; k < options.steps_ahead; ++k) {
         ring.push_back(std::make_unique<Slot>());
         ring.back()->record.resize(device, device::StepRecord::kDoubles);
+        ring.back()->probe.resize(device, 2 * points.size());
     }
     // dt = cfl min(sqrt(h/|a|), h/(c0 + |v|)) <= cfl h/c0: how far the steps in flight can go at most.
     const auto& sp = driver->params();
@@ -32,9 +36,6 @@ bool Simulation::Impl::may_enqueue(double t, std::uint64_t last_step) const {
     if (j >= ring.size()) return false;
     const std::uint64_t s = info.step + j;  // the last step enqueued (or taken)
     if ((last_step && s >= last_step) || (options.step_limit && s >= options.step_limit)) return false;
-    // A probe step is sampled by the step callback on the state after it: nothing may run past it.
-    const auto every = scene.run.probe_every;
-    if (j > 0 && every > 0 && !scene.probes.empty() && s % static_cast<std::uint64_t>(every) == 0) return false;
     // run_until takes the next step while the time is short of t; with j steps in flight, the time
     // before the next one is at most j * dt_max on.
     return info.time + static_cast<double>(j) * dt_max * (1.0 + 1e-9) < t - 1e-12;
@@ -43,15 +44,35 @@ bool Simulation::Impl::may_enqueue(double t, std::uint64_t last_step) const {
 void Simulation::Impl::enqueue_ahead() {
     const std::size_t k = next_slot;
     next_slot = (next_slot + 1) % ring.size();
+    const std::uint64_t step = info.step + in_flight.size() + 1;
     driver->enqueue_step_ahead(ring[k]->record.data(), ring[k]->done);
     in_flight.push_back(k);
+    enqueue_probe(k, step);
+}
+
+// The probes of a probe step sampled in the queue, on the state after it, so that the step
+// callback finds them (sample_probes) with later steps already in flight.
+void Simulation::Impl::enqueue_probe(std::size_t k, std::uint64_t step) {
+    auto& slot = *ring[k];
+    slot.probed = probe_step(step);
+    if (!slot.probed) return;
+    auto& s = driver->slabs()[0];
+    s.physics->enqueue_probe(*s.store, *s.cells, slot.probe.data(), slot.done);
+    s.device->flush();
 }
 
 device::StepRecord Simulation::Impl::wait_oldest() {
     const std::size_t k = in_flight.front();
     in_flight.pop_front();
-    ring[k]->done.wait("a step run ahead", wait_mode);
-    return device::StepRecord::from(ring[k]->record.data());
+    auto& slot = *ring[k];
+    slot.done.wait("a step run ahead", wait_mode);
+    const auto r = device::StepRecord::from(slot.record.data());
+    if (slot.probed && r.halt == 0) {
+        probed.resize(slot.probe.size() / 2);
+        for (std::size_t i = 0; i < probed.size(); ++i) probed[i] = {slot.probe[2 * i], slot.probe[2 * i + 1]};
+        probed_step = info.step + 1;  // the step this record is (apply() makes it info's)
+    }
+    return r;
 }
 
 void Simulation::Impl::apply(const device::StepRecord& r) {
@@ -124,6 +145,7 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
             in_flight.push_back(next_slot);
             next_slot = 1 % ring.size();
             driver->redo_step_ahead(r.cells, dropped, ring[0]->record.data(), ring[0]->done);
+            enqueue_probe(0, info.step + 1);
             continue;
         }
         if (r.halt != 0) continue;  // past an event or a failure: nothing happened

@@ -76,6 +76,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
     kick_k_ = device.kernel("integrate.cl", "kick", integ);
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
+    probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
     kick_groups_ = std::max<std::size_t>(1, std::min<std::size_t>(256, device.info().compute_units * 4));
     partials_ = device.alloc(kick_groups_ * 4 * sizeof(float), "kick reductions");
     bad_ = device.alloc(sizeof(cl_uint), "failure flag");
@@ -247,10 +248,7 @@ KickResult Physics::kick_result() const {
     return r;
 }
 
-std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPipeline& cells,
-                                                 const std::vector<std::array<double, 3>>& points) {
-    std::vector<std::array<float, 2>> out(points.size());
-    if (points.empty()) return out;
+std::vector<float> Physics::probe_query(const std::vector<std::array<double, 3>>& points) const {
     std::vector<float> q(4 * points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         std::array<float, 3> off{};
@@ -258,6 +256,31 @@ std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPi
         std::memcpy(&q[4 * i], off.data(), sizeof off);
         std::memcpy(&q[4 * i + 3], &key, sizeof key);
     }
+    return q;
+}
+
+void Physics::set_probe_points(const std::vector<std::array<double, 3>>& points) {
+    fixed_points_ = points.size();
+    if (points.empty()) return;
+    const std::vector<float> q = probe_query(points);
+    fixed_in_ = device_.alloc(q.size() * sizeof(float), "probe points (fixed)");
+    fixed_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums (fixed)");
+    device_.write(fixed_in_, q.data(), q.size());
+}
+
+void Physics::enqueue_probe(ParticleStore& ps, const CellPipeline& cells, float* out, cl_rt::EventSet& done) {
+    if (fixed_points_ == 0) return;
+    cl_rt::set_args(probe_counted_k_, fixed_points_, cells.cell_count(), grid_.params(), sp_, fixed_in_,
+                    cells.cell_key(), cells.cell_start(), ps.pos, ps.velrho, ps.id, fixed_out_);
+    device_.launch("probe.points", probe_counted_k_, fixed_points_, wg_);
+    device_.read_async(fixed_out_, out, fixed_points_ * 2 * sizeof(float), 0, done);
+}
+
+std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPipeline& cells,
+                                                 const std::vector<std::array<double, 3>>& points) {
+    std::vector<std::array<float, 2>> out(points.size());
+    if (points.empty()) return out;
+    const std::vector<float> q = probe_query(points);
     if (probe_in_.bytes() < q.size() * sizeof(float)) {
         probe_in_ = device_.alloc(q.size() * sizeof(float), "probe points");
         probe_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums");

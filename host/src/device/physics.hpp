@@ -75,6 +75,11 @@ public:
     void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, double* record, cl_rt::EventSet& done);
     const cl_rt::Buffer& halt() const { return halt_; }
 
+    // The step ahead: the probe points, fixed for the run; after a probe step, their sums enqueued
+    // and read into `out` (2 floats a point, pinned) once `done` is waited for.
+    void set_probe_points(const std::vector<std::array<double, 3>>& points);
+    void enqueue_probe(ParticleStore& ps, const CellPipeline& cells, float* out, cl_rt::EventSet& done);
+    std::size_t probe_points() const { return fixed_points_; }
     // Per probe point: (sum V W, sum p V W) over fluid neighbours. Blocking.
     std::vector<std::array<float, 2>> probe(ParticleStore& ps, const CellPipeline& cells,
                                             const std::vector<std::array<double, 3>>& points);
@@ -89,7 +94,10 @@ private:
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;
-    cl::Kernel end_k_;
+    cl::Kernel end_k_, probe_counted_k_;
+    cl_rt::Buffer fixed_in_, fixed_out_;
+    std::size_t fixed_points_ = 0;
+    std::vector<float> probe_query(const std::vector<std::array<double, 3>>& points) const;
     bool has_clock_ = false;
     void write_dt(double dt);  // the synchronous path: dt_f from the host
     float dt_written_ = 0;
