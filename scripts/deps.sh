@@ -5,6 +5,7 @@ set -euo pipefail
 CLSPH_PACKAGES=(g++ cmake make ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd
   mesa-opencl-icd libeigen3-dev doctest-dev nlohmann-json3-dev libcli11-dev
   python3-matplotlib  # scripts/plot_surge.py: the surge-front plot of scripts/run.sh
+  python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   glmark2-data)       # scenes/bunny.json: the Stanford bunny mesh (/usr/share/glmark2/models/bunny.obj)
 missing=()
 for p in "${CLSPH_PACKAGES[@]}"; do

@@ -17,4 +17,12 @@ cmake --install "$build" --prefix "$prefix" >/dev/null
 cmake -S examples/hello -B "$build/example-hello" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build/example-hello" -j"$(nproc)"
 "$build/example-hello/clsph-hello"
+
+# The Python module as installed: importable with PYTHONPATH alone, and `python3 -m clsph` runs the
+# installed tool.
+site=$(ls -d "$prefix"/lib/python3*/site-packages 2>/dev/null | head -1)
+if [ -n "$site" ]; then
+  PYTHONPATH="$site" /usr/bin/python3 -c 'import clsph; print("python: clsph", clsph.__version__, "from", clsph.__file__)'
+  PYTHONPATH="$site" /usr/bin/python3 -m clsph --version
+fi
 echo "clsph: all tests passed"

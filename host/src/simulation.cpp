@@ -1,6 +1,7 @@
 // The facade behind clsph::Simulation: scene -> particles -> device pipeline -> steps.
 #include "simulation_impl.hpp"
 
+#include "surface/extract.hpp"
 #include "clsph/testing.hpp"
 
 #include <chrono>
@@ -181,6 +182,10 @@ std::vector<DeviceShare> Simulation::shares() const {
                        s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
                        s.physics->interaction()});
     return out;
+}
+
+TriangleMesh Simulation::surface(const SurfaceOptions& options) {
+    return surface::extract_surface(*impl_->driver, impl_->grid, impl_->scene, options);
 }
 
 Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const {

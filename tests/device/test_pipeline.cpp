@@ -137,10 +137,13 @@ Reference brute_force(const Particles& p, const std::vector<float>& q, double R,
 
 float quantity_of(std::uint32_t id) { return 0.5f + static_cast<float>(id % 17) * 0.125f; }
 
-// Full check of one configuration on one device: pipeline invariants, then both schemes.
-void check_neighbours(cl_rt::Device& d, const Box& box, double R, std::array<bool, 3> periodic,
-                      const std::vector<std::array<double, 3>>& x, std::size_t expect_outside, std::uint64_t salt) {
-    Grid grid(box, R, -1, periodic);
+// Full check of one configuration on one device at one grid reach: pipeline invariants, then both
+// schemes.
+void check_neighbours_at(cl_rt::Device& d, const Box& box, double R, std::array<bool, 3> periodic,
+                         const std::vector<std::array<double, 3>>& x, std::size_t expect_outside, std::uint64_t salt,
+                         int reach) {
+    CAPTURE(reach);
+    Grid grid(box, R, -1, periodic, reach);
     ParticleStore ps(d, grid, x.size());
     const Particles in = make_particles(x);
     ps.upload(in);
@@ -207,6 +210,12 @@ void check_neighbours(cl_rt::Device& d, const Box& box, double R, std::array<boo
             CHECK(std::includes(ref.maybe[s].begin(), ref.maybe[s].end(), got.begin(), got.end()));
         }
     }
+}
+
+// At both grid reaches: cells of a whole support, and of half a support along a and b.
+void check_neighbours(cl_rt::Device& d, const Box& box, double R, std::array<bool, 3> periodic,
+                      const std::vector<std::array<double, 3>>& x, std::size_t expect_outside, std::uint64_t salt) {
+    for (int reach : {1, 2}) check_neighbours_at(d, box, R, periodic, x, expect_outside, salt, reach);
 }
 
 std::vector<std::array<double, 3>> random_points(std::mt19937_64& gen, std::size_t n, const Box& b) {

@@ -1,6 +1,7 @@
 // Running a scene on OpenCL devices: the facade a host program (and the clsph tool) uses.
 #pragma once
 #include "clsph/interaction.hpp"
+#include "clsph/mesh.hpp"
 #include "clsph/particles.hpp"
 #include "clsph/scene.hpp"
 
@@ -135,6 +136,9 @@ public:
 
     // Probe values now (computed on the device).
     std::vector<ProbeSample> sample_probes();
+    // The free surface now (clsph/mesh.hpp): sampled and meshed on the devices, each its own slab;
+    // the same mesh on any number of devices.
+    TriangleMesh surface(const SurfaceOptions& options = {});
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
     std::vector<KernelTime> host_phases() const;  // host wall time per step phase

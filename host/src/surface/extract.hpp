@@ -1,0 +1,20 @@
+// The free surface of a running simulation (Simulation::surface): the fluid fraction sampled on a
+// lattice, in blocks of 8^3 cubes near the free surface only, meshed by marching cubes on the
+// device that owns each block, welded into one mesh. Blocks are found from the fluid particles'
+// positions: a block is sampled if it or a neighbour holds fluid, unless it and all 26 neighbours
+// are nearly full of fluid (inside); blocks never sampled count as inside or outside alike on both
+// sides, so the mesh stays closed. Each block belongs to the device owning its first sample's
+// column, and each sample is evaluated on the device owning its own column (which holds the ghosts
+// it needs), so the mesh is the same on any number of devices.
+#pragma once
+#include "clsph/mesh.hpp"
+#include "clsph/scene.hpp"
+#include "device/grid.hpp"
+#include "multi/slab_driver.hpp"
+
+namespace clsph::surface {
+
+TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                             const SurfaceOptions& options);
+
+}  // namespace clsph::surface

@@ -1,0 +1,196 @@
+// The `clsph._clsph` extension: the public C++ API (clsph/*.hpp) as a Python module. Scenes come
+// from dicts or JSON files; particles, probes and step statistics come back as NumPy arrays and
+// small records, never one Python object per particle. The GIL is released while the devices step.
+#include "clsph/devices.hpp"
+#include "clsph/error.hpp"
+#include "clsph/scene.hpp"
+#include "clsph/scene_io.hpp"
+#include "clsph/simulation.hpp"
+#include "clsph/version.hpp"
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+using namespace clsph;
+
+namespace {
+
+// A NumPy array of shape `shape` that owns a copy of `count` elements from `data`.
+template <class T>
+py::array_t<T> array_copy(const T* data, std::vector<py::ssize_t> shape) {
+    py::array_t<T> a(shape);
+    std::size_t count = 1;
+    for (auto s : shape) count *= static_cast<std::size_t>(s);
+    if (count) std::memcpy(a.mutable_data(), data, count * sizeof(T));
+    return a;
+}
+
+// Particles as a dict of arrays: id (uint32), type (uint8: 0 fluid, 1 boundary), position (n, 3)
+// float64 (m), velocity (n, 3) float32 (m/s), density and pressure (float32).
+py::dict particles_dict(const Particles& p) {
+    const auto n = static_cast<py::ssize_t>(p.size());
+    static_assert(sizeof(ParticleType) == 1, "type is one byte");
+    py::dict d;
+    d["id"] = array_copy(p.id.data(), {n});
+    d["type"] = array_copy(reinterpret_cast<const std::uint8_t*>(p.type.data()), {n});
+    d["position"] = array_copy(p.position.empty() ? nullptr : p.position[0].data(), {n, 3});
+    d["velocity"] = array_copy(p.velocity.empty() ? nullptr : p.velocity[0].data(), {n, 3});
+    d["density"] = array_copy(p.density.data(), {n});
+    d["pressure"] = array_copy(p.pressure.data(), {n});
+    return d;
+}
+
+Options make_options(const std::string& devices, const std::string& interaction, bool profile) {
+    Options o;
+    o.devices = devices;
+    o.interaction = interaction_from_name(interaction);
+    o.profile = profile;
+    return o;
+}
+
+// Simulation::run_until (which lands on t exactly) without the GIL; after every step the GIL is
+// taken back for the callback (if any) and for pending signals, so Ctrl-C raises KeyboardInterrupt
+// at the end of the step in progress, and an exception in the callback stops the run and reaches
+// the caller.
+void run_until(Simulation& sim, double t, const py::object& callback) {
+    py::gil_scoped_release unlocked;
+    sim.run_until(t, [&](const StepInfo& s) {
+        py::gil_scoped_acquire locked;
+        if (!callback.is_none()) callback(s);
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_clsph, m) {
+    m.doc() = "clsph: multi-device SPH on OpenCL (the C++ library's public API)";
+    m.attr("__version__") = version();
+
+    // Errors: clsph.Error and its subclasses, messages unchanged.
+    static py::exception<Error> error(m, "Error");
+    static py::exception<SceneError> scene_error(m, "SceneError", error.ptr());
+    static py::exception<DeviceSelectionError> selection_error(m, "DeviceSelectionError", error.ptr());
+    static py::exception<DeviceError> device_error(m, "DeviceError", error.ptr());
+    static py::exception<BuildError> build_error(m, "BuildError", error.ptr());
+    static py::exception<OutOfDeviceMemory> memory_error(m, "OutOfDeviceMemory", error.ptr());
+    static py::exception<SimulationError> simulation_error(m, "SimulationError", error.ptr());
+    for (PyObject* e : {error.ptr(), scene_error.ptr(), selection_error.ptr(), device_error.ptr(), build_error.ptr(),
+                        memory_error.ptr(), simulation_error.ptr()})
+        py::handle(e).attr("__module__") = "clsph";  // shown as clsph.SceneError, as users import it
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const SceneError& e) {
+            scene_error(e.what());
+        } catch (const DeviceSelectionError& e) {
+            selection_error(e.what());
+        } catch (const DeviceError& e) {
+            device_error(e.what());
+        } catch (const BuildError& e) {
+            build_error(e.what());
+        } catch (const OutOfDeviceMemory& e) {
+            memory_error(e.what());
+        } catch (const SimulationError& e) {
+            simulation_error(e.what());
+        } catch (const Error& e) {
+            error(e.what());
+        }
+    });
+
+    m.def("devices", [] {
+        py::list out;
+        for (const auto& d : list_devices()) {
+            py::dict e;
+            e["index"] = d.index;
+            e["platform"] = d.platform;
+            e["vendor"] = d.vendor;
+            e["name"] = d.name;
+            e["type"] = d.type;
+            e["driver_version"] = d.driver_version;
+            e["compute_units"] = d.compute_units;
+            e["global_memory"] = d.global_memory;
+            out.append(e);
+        }
+        return out;
+    }, "Every OpenCL device, in the order `clsph devices` lists them (dicts: index, platform, name, type, ...).");
+
+    py::class_<Scene>(m, "Scene", "A scene: physics, domain, fluid, boundaries, probes, run control (docs/scenes.md).")
+        .def_static("from_json", [](const std::string& text, const std::string& name) { return Scene::from_json_text(text, name); },
+                    py::arg("text"), py::arg("source_name") = "scene")
+        .def_static("from_file", [](const std::string& path, const std::vector<std::string>& overrides) { return load_scene(path, overrides); },
+                    py::arg("path"), py::arg("overrides") = std::vector<std::string>{},
+                    "Reads a JSON scene file and applies KEY=VALUE overrides, as `clsph run --set` does.")
+        .def("to_json", &Scene::to_json, "The resolved scene, every default filled in.")
+        .def_property_readonly("name", [](const Scene& s) { return s.name; })
+        .def_property_readonly("dp", [](const Scene& s) { return s.physics.dp; })
+        .def_property_readonly("end_time", [](const Scene& s) { return s.run.end_time; })
+        .def("particles", [](const Scene& s) { return particles_dict(s.build_particles()); },
+             "The scene's initial particles (dict of NumPy arrays).");
+
+    py::class_<StepInfo>(m, "StepInfo", "Statistics of the step just taken.")
+        .def_readonly("step", &StepInfo::step)
+        .def_readonly("time", &StepInfo::time)
+        .def_readonly("dt", &StepInfo::dt)
+        .def_readonly("particles", &StepInfo::particles)
+        .def_readonly("fluid", &StepInfo::fluid)
+        .def_readonly("removed", &StepInfo::removed)
+        .def_readonly("kinetic_energy", &StepInfo::kinetic_energy)
+        .def_readonly("max_speed", &StepInfo::max_speed)
+        .def_readonly("wall_seconds", &StepInfo::wall_seconds)
+        .def("__repr__", [](const StepInfo& s) {
+            return "StepInfo(step=" + std::to_string(s.step) + ", time=" + std::to_string(s.time) + ")";
+        });
+
+    py::class_<Simulation>(m, "Simulation", "A scene running on OpenCL devices.")
+        .def(py::init([](const Scene& scene, const std::string& devices, const std::string& interaction, bool profile) {
+                 py::gil_scoped_release unlocked;  // set-up builds kernels and uploads particles
+                 return std::make_unique<Simulation>(scene, make_options(devices, interaction, profile));
+             }),
+             py::arg("scene"), py::arg("devices") = "", py::arg("interaction") = "auto", py::arg("profile") = false)
+        .def("step", [](Simulation& s) {
+            {
+                py::gil_scoped_release unlocked;
+                s.step();
+            }
+            return s.info();
+        }, "One time step; returns its StepInfo.")
+        .def("run_until", &run_until, py::arg("time"), py::arg("callback") = py::none(),
+             "Steps until simulated time `time`; callback(StepInfo) after every step.")
+        .def("particles", [](Simulation& s) {
+            Particles p;
+            {
+                py::gil_scoped_release unlocked;
+                p = s.particles();
+            }
+            return particles_dict(p);
+        }, "Host copy of the particles: dict of NumPy arrays id, type, position, velocity, density, pressure.")
+        .def("probes", [](Simulation& s) {
+            py::dict out;
+            for (const auto& p : s.sample_probes()) out[py::str(p.name)] = p.value;
+            return out;
+        }, "Each probe's value now: {name: Pa or m} (NaN where no fluid is).")
+        .def_property_readonly("time", &Simulation::time)
+        .def_property_readonly("info", &Simulation::info)
+        .def_property_readonly("scene", &Simulation::scene)
+        .def("devices", &Simulation::device_names)
+        .def("interaction_forms", [](const Simulation& s) {
+            std::vector<std::string> out;
+            for (const auto& d : s.shares()) out.push_back(interaction_name(d.interaction));
+            return out;
+        })
+        .def("profile", [](Simulation& s) {
+            py::dict out;
+            for (const auto& k : s.profile()) out[py::str(k.name)] = out.contains(k.name) ? out[py::str(k.name)].cast<double>() + k.seconds : k.seconds;
+            return out;
+        }, "Seconds per kernel since the start (profile=True).");
+}

@@ -1,0 +1,162 @@
+"""The Python module against the C++ library and tool (run by CTest: PYTHONPATH points at the build
+tree's package, CLSPH_TOOL at the clsph tool, CLSPH_SOURCE_DIR at the checkout)."""
+import csv
+import json
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import clsph
+
+SOURCE = os.environ.get("CLSPH_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+TOOL = os.environ.get("CLSPH_TOOL", "clsph")
+HYDROSTATIC = os.path.join(SOURCE, "scenes", "hydrostatic.json")
+DAM_BREAK = os.path.join(SOURCE, "scenes", "dam_break.json")
+
+
+def first_device():
+    """One device: pocl's threaded CPU device where there is one (the fastest CPU device in CI),
+    else the first."""
+    devs = clsph.devices()
+    assert devs, "no OpenCL device"
+    for d in devs:
+        if d["name"].startswith("pthread"):
+            return str(d["index"])
+    return str(devs[0]["index"])
+
+
+def test_a_dict_scene_and_the_same_file_resolve_alike():
+    with open(DAM_BREAK) as f:
+        doc = json.load(f)
+    from_file = clsph.scene(DAM_BREAK)
+    from_dict = clsph.scene(doc)
+    assert clsph.scene_dict(from_dict) == clsph.scene_dict(from_file)
+    # and an override on the file equals the same change in the dict
+    doc["physics"]["dp"] = 0.0146
+    assert clsph.scene_dict(clsph.scene(doc)) == clsph.scene_dict(clsph.scene(DAM_BREAK, ["physics.dp=0.0146"]))
+
+
+def test_bad_keys_raise_scene_error_naming_the_key():
+    with pytest.raises(clsph.SceneError, match=r"physics\.bogus"):
+        clsph.scene({"physics": {"dp": 0.01, "bogus": 1}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}})
+    with pytest.raises(clsph.SceneError, match=r"physics\.dp"):
+        clsph.scene(DAM_BREAK, ["physics.dp=-1"])
+    assert issubclass(clsph.SceneError, clsph.Error)
+    assert issubclass(clsph.DeviceSelectionError, clsph.Error)
+    with pytest.raises(clsph.DeviceSelectionError):
+        clsph.Simulation(clsph.scene(HYDROSTATIC), devices="99")
+
+
+def test_particles_are_numpy_arrays():
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    p = sim.particles()
+    n = sim.info.particles
+    assert p["position"].shape == (n, 3) and p["position"].dtype == np.float64
+    assert p["velocity"].shape == (n, 3) and p["velocity"].dtype == np.float32
+    for key, dtype in (("id", np.uint32), ("type", np.uint8), ("density", np.float32), ("pressure", np.float32)):
+        assert p[key].shape == (n,) and p[key].dtype == dtype, key
+    assert len(np.unique(p["id"])) == n
+    assert int((p["type"] == 0).sum()) == sim.info.fluid
+    probes = sim.probes()
+    assert set(probes) == {pr["name"] for pr in clsph.scene_dict(sim.scene)["probes"]}
+
+
+def read_csv_frame(path):
+    rows = {}
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            rows[int(r["id"])] = r
+    return rows
+
+
+def test_fifty_steps_from_python_and_from_the_cpp_tool_are_identical(tmp_path):
+    device = first_device()
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=device)
+    for _ in range(50):
+        sim.step()
+    p = sim.particles()
+    out = tmp_path / "cpp"
+    subprocess.run([TOOL, "run", HYDROSTATIC, "--steps", "50", "--csv", "--every", "1000", "--devices", device,
+                    "--out", str(out)], check=True, stdout=subprocess.DEVNULL)
+    frames = sorted(out.glob("frame_*.csv"))
+    ref = read_csv_frame(frames[-1])
+    assert len(ref) == len(p["id"])
+    for k in range(len(p["id"])):
+        r = ref[int(p["id"][k])]
+        # the CSV holds exact decimals: equality is bitwise
+        assert [float(r["x"]), float(r["y"]), float(r["z"])] == p["position"][k].tolist()
+        assert np.array([float(r["vx"]), float(r["vy"]), float(r["vz"])], dtype=np.float32).tolist() == p["velocity"][k].tolist()
+        assert np.float32(float(r["rho"])) == p["density"][k]
+
+
+def test_a_python_thread_runs_while_the_devices_step():
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    ticks = []
+    stop = threading.Event()
+
+    def worker():
+        while not stop.is_set():
+            ticks.append(time.monotonic())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=worker)
+    t.start()
+    try:
+        begin = time.monotonic()
+        sim.run_until(0.02)  # no callback: the GIL is taken back only at the end unless released
+        end = time.monotonic()
+    finally:
+        stop.set()
+        t.join()
+    inside = [x for x in ticks if begin < x < end]
+    assert sim.info.step > 10
+    assert len(inside) >= 3, "the worker thread never ran while run_until stepped: the GIL was held"
+
+
+def test_an_exception_in_the_callback_stops_the_run_and_reaches_the_caller():
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+
+    def callback(s):
+        if s.step == 7:
+            raise ValueError("stop at step 7")
+
+    with pytest.raises(ValueError, match="stop at step 7"):
+        sim.run_until(1.0, callback)
+    assert sim.info.step == 7
+
+
+def test_python_m_clsph_runs_the_tool():
+    env = dict(os.environ, CLSPH_TOOL=TOOL)
+    r = subprocess.run([sys.executable, "-m", "clsph", "devices", "--devices", "all"], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "selection 'all' picks" in r.stdout
+
+
+def test_the_example_runs_at_a_coarse_resolution(tmp_path):
+    example = os.path.join(SOURCE, "examples", "python", "dam_break.py")
+    r = subprocess.run([sys.executable, example, "--coarse", "--until", "0.2", "--out", str(tmp_path),
+                        "--devices", first_device()],
+                       capture_output=True, text=True, cwd=SOURCE)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert (tmp_path / "surge_front.png").stat().st_size > 1000
+    assert (tmp_path / "surge_front.csv").read_text().count("\n") > 5
+
+
+def test_ctrl_c_stops_run_until_at_the_end_of_a_step():
+    import signal
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    sim.step()  # kernels built, so the interrupt lands while stepping
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.run_until(1000.0)  # far more than the test would wait for
+    finally:
+        timer.cancel()
+    assert 1 < sim.info.step and sim.time < 1000.0
+    sim.step()  # the simulation is still usable after the interrupt
