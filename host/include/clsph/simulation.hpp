@@ -40,10 +40,13 @@ struct Options {
     BalanceMode balance = BalanceMode::dynamic;
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     WaitMode wait = WaitMode::callbacks;
-    // The step ahead (one device with cl_khr_fp64; docs/multi_device.md): dt chosen on the device,
-    // no count read back per step, each step's statistics read up to steps_ahead steps later.
-    // synchronous: the host waits for every step (the previous path; same states bitwise).
-    bool synchronous = false;
+    // synchronous (the library's default): the host waits for every step, so an exception thrown
+    // by the step callback leaves the state at that step. Off: the step ahead (one device with
+    // cl_khr_fp64; docs/multi_device.md): dt chosen on the device, no count read back per step,
+    // each step's statistics read up to steps_ahead steps later — bitwise the same states, but an
+    // exception from the callback leaves the state (and info()) at the last step in flight. The
+    // clsph tool runs steps ahead unless --synchronous.
+    bool synchronous = true;
     std::size_t steps_ahead = 8;    // steps in flight at most (the ring of results)
     double cell_headroom = 0.25;    // spare capacity of the cell tables, whose bound the step ahead launches over
     // A CFL step below this fraction of the acoustic step at rest (cfl h / c0) stops the run with a
