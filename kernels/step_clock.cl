@@ -8,7 +8,7 @@
 // clock[3] the event the run lands on (a frame, --until; +inf: none)
 // *halt    non-zero: every kernel that changes the state does nothing (an event reached, the cell
 //          tables overflowed, a particle failed the checks); the host clears it
-// record   what the host reads a few steps later (STEP_RECORD_* below)
+// records  a ring of step records, one per slot of the host's ring (StepRecord::from)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 
 #define HALT_EVENT 1u
@@ -24,8 +24,9 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
                        __global const float4* partials, __global uint* bad, __global const uint* ids,
                        __global const float4* velrho, __global uint* settle_counters,
                        __global const uint* cell_count, __global double* clock, __global float* dt_f,
-                       __global uint* halt, __global double* record) {
+                       __global uint* halt, __global double* records, const uint slot) {
     if (get_global_id(0) != 0) return;
+    __global double* record = records + slot * 17u;  // StepRecord::kDoubles
     const uint halted = *halt;
     record[15] = (double)cell_count[1];
     record[6] = (double)halted;

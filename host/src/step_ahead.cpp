@@ -45,7 +45,7 @@ void Simulation::Impl::enqueue_ahead() {
     const std::size_t k = next_slot;
     next_slot = (next_slot + 1) % ring.size();
     const std::uint64_t step = info.step + in_flight.size() + 1;
-    driver->enqueue_step_ahead(ring[k]->record.data(), ring[k]->done);
+    driver->enqueue_step_ahead(k, ring[k]->record.data(), ring[k]->done);
     in_flight.push_back(k);
     enqueue_probe(k, step);
 }
@@ -144,7 +144,7 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
             next_slot = 0;
             in_flight.push_back(next_slot);
             next_slot = 1 % ring.size();
-            driver->redo_step_ahead(r.cells, dropped, ring[0]->record.data(), ring[0]->done);
+            driver->redo_step_ahead(r.cells, dropped, 0, ring[0]->record.data(), ring[0]->done);
             enqueue_probe(0, info.step + 1);
             continue;
         }

@@ -1,5 +1,6 @@
 #include "device/physics.hpp"
 
+#include "cl/errors.hpp"
 #include "cl/kernel_args.hpp"
 
 #include <cmath>
@@ -90,8 +91,6 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     if (has_clock_) {
         end_k_ = device.kernel("step_clock.cl", "end_step", "");
         clock_ = device.alloc(4 * sizeof(double), "step clock");
-        record_ = device.alloc(StepRecord::kDoubles * sizeof(double), "step record");
-        device.fill(record_, 0.0, StepRecord::kDoubles);
         device.fill(bad_, cl_uint{0xffffffffu}, 1);
     }
 }
@@ -201,19 +200,36 @@ void Physics::set_clock(double time, double next_dt, double event) {
 
 void Physics::clear_halt() { device_.fill(halt_, cl_uint{0}, 1); }
 
-void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, double* record,
+void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
                                cl_rt::EventSet& done) {
+    const std::size_t bytes = StepRecord::kDoubles * sizeof(double);
+    if (record_.bytes() < (slot + 1) * bytes) {
+        record_ = cl_rt::Buffer();
+        record_ = device_.alloc((slot + 1) * bytes, "step records");
+    }
     cl_uint i = 0;
     end_k_.setArg(i++, static_cast<cl_uint>(kick_groups_));
     end_k_.setArg(i++, cfl_);
     end_k_.setArg(i++, static_cast<double>(sp_.h));
     end_k_.setArg(i++, static_cast<double>(sp_.c0));
     end_k_.setArg(i++, fixed_dt_);
-    for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{&partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(),
-                                   &clock_, &dt_f_, &halt_, &record_})
+    for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{
+             &partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(), &clock_, &dt_f_,
+             &halt_, &record_})
         end_k_.setArg(i++, b->get());
+    end_k_.setArg(i++, cl_rt::checked_uint(slot));
     device_.launch("clock.end", end_k_, 1, 1);
-    device_.read_async(record_, record, StepRecord::kDoubles * sizeof(double), 0, done);
+    // The record comes back on the transfer queue, after a marker: the compute queue goes on with
+    // the next step instead of waiting for the copy (each slot has its own record on the device,
+    // which the host reads before it enqueues the step that writes that slot again).
+    cl::Event marker, read;
+    cl_rt::check(device_.queue().enqueueMarkerWithWaitList(nullptr, &marker), "marking a step's end", device_.label());
+    const std::vector<cl::Event> after{marker};
+    cl_rt::check(device_.transfer_queue().enqueueReadBuffer(record_.get(), CL_FALSE, slot * bytes, bytes, record, &after,
+                                                            &read),
+                 "reading a step's record", device_.label());
+    done.add(device_, std::move(read));
+    cl_rt::check(device_.transfer_queue().flush(), "submitting the transfer queue", device_.label());
 }
 
 StepRecord StepRecord::from(const double* r) {

@@ -70,9 +70,10 @@ public:
     bool has_clock() const { return has_clock_; }
     void set_clock(double time, double next_dt, double event);
     void clear_halt();
-    // The reductions, the clock advanced, the record read into `record` (StepRecord::kDoubles
-    // doubles of pinned memory that must stay put until `done` is waited for).
-    void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, double* record, cl_rt::EventSet& done);
+    // The reductions, the clock advanced, the record of ring slot `slot` read into `record`
+    // (StepRecord::kDoubles doubles of pinned memory that must stay put until `done` is waited for).
+    void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
+                          cl_rt::EventSet& done);
     const cl_rt::Buffer& halt() const { return halt_; }
 
     // The step ahead: the probe points, fixed for the run; after a probe step, their sums enqueued

@@ -56,10 +56,11 @@ public:
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
     bool can_step_ahead() const { return slabs_.size() == 1 && slabs_[0].physics->has_clock(); }
     void set_clock(double time, double next_dt, double event) { slabs_[0].physics->set_clock(time, next_dt, event); }
-    void enqueue_step_ahead(double* record, cl_rt::EventSet& done);
+    void enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     // After a step halted on the cell tables' bound: tables grown to `cells`, the step again from
     // its settle (its drift is done; the steps after it changed nothing and are uncounted).
-    void redo_step_ahead(std::size_t cells, std::size_t uncounted, double* record, cl_rt::EventSet& done);
+    void redo_step_ahead(std::size_t cells, std::size_t uncounted, std::size_t slot, double* record,
+                         cl_rt::EventSet& done);
     // Particles that left the domain wait at the end of the sorted arrays until no step is in flight.
     void drop_left(std::size_t n) { slabs_[0].store->ranges.owned -= n; }
     std::size_t cell_capacity() const { return slabs_[0].cells->cell_capacity(); }
@@ -81,7 +82,7 @@ private:
     void forces(std::size_t d);
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
     StepOutcome reductions(cl_rt::EventSet& kicked);
-    void tables_forces_kick_ahead(double* record, cl_rt::EventSet& done);
+    void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     void read_force_times();
 
     Partition partition_;

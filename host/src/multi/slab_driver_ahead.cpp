@@ -9,23 +9,24 @@
 
 namespace clsph::multi {
 
-void SlabDriver::enqueue_step_ahead(double* record, cl_rt::EventSet& done) {
+void SlabDriver::enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done) {
     apply_seams();  // tests: a simulated failure
     Slab& s = slabs_[0];
     s.physics->kick_drift_on_clock(*s.store);
-    tables_forces_kick_ahead(record, done);
+    tables_forces_kick_ahead(slot, record, done);
     ++steps_;
 }
 
-void SlabDriver::redo_step_ahead(std::size_t cells, std::size_t uncounted, double* record, cl_rt::EventSet& done) {
+void SlabDriver::redo_step_ahead(std::size_t cells, std::size_t uncounted, std::size_t slot, double* record,
+                                 cl_rt::EventSet& done) {
     Slab& s = slabs_[0];
     steps_ -= uncounted;
     s.cells->grow_cells(cells);
     s.physics->clear_halt();
-    tables_forces_kick_ahead(record, done);
+    tables_forces_kick_ahead(slot, record, done);
 }
 
-void SlabDriver::tables_forces_kick_ahead(double* record, cl_rt::EventSet& done) {
+void SlabDriver::tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done) {
     Slab& s = slabs_[0];
     auto& ps = *s.store;
     const std::size_t n = ps.ranges.active();
@@ -38,7 +39,7 @@ void SlabDriver::tables_forces_kick_ahead(double* record, cl_rt::EventSet& done)
     s.cells->enqueue_tables_bounded(ps, n, s.physics->halt());
     forces(0);
     s.physics->enqueue_kick_on_clock(ps);
-    s.physics->enqueue_end_step(ps, *s.cells, record, done);
+    s.physics->enqueue_end_step(ps, *s.cells, slot, record, done);
     s.device->flush();
     if (s.device->profiler().enabled()) s.device->profiler().collect_finished();
 }
