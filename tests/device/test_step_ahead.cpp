@@ -256,3 +256,28 @@ TEST_CASE("a collapsing time step stops both paths at the same step with the sam
     CHECK(steps[1] == steps[0]);
 }
 }
+
+TEST_SUITE("step_ahead") {
+TEST_CASE("--steps: with a step limit the callback that stops the run finds no step past it in flight") {
+    const Scene scene = probed_dam();
+    State states[2];
+    std::uint64_t steps[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        Options o = options(k == 0);
+        o.step_limit = 45;
+        auto sim = make(scene, o);
+        struct Stop {};
+        try {
+            sim->run_until(1.0, [&](const StepInfo& s) {
+                if (s.step >= 45) throw Stop{};  // what the clsph tool's --steps does
+            });
+        } catch (const Stop&) {
+        }
+        steps[k] = sim->info().step;
+        states[k] = state_of(*sim);
+    }
+    CHECK(steps[0] == 45);
+    CHECK(steps[1] == 45);
+    CHECK(differing(states[0], states[1]) == 0);
+}
+}

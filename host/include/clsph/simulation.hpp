@@ -53,7 +53,7 @@ struct Options {
     // SimulationError, as a blow-up does (1e-3: accelerations of ~1e6 c0^2/h). Not with fixed_dt.
     double dt_collapse = 1e-3;
     // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
-    // by the step callback has taken exactly that many steps.
+    // by the step callback has taken exactly that many steps (run_until returns there, short of t).
     std::uint64_t step_limit = 0;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
     std::shared_ptr<const testing::Seams> seams;
