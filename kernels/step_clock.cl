@@ -21,6 +21,7 @@
 // Physics::set_clock computes the first one on the host), the record, and the counters reset for
 // the next step (so the host enqueues no fills).
 __kernel void end_step(const uint groups, const double cfl, const double h, const double c0, const double fixed_dt,
+                       const double dt_floor,
                        __global const float4* partials, __global uint* bad, __global const uint* ids,
                        __global const float4* velrho, __global uint* settle_counters,
                        __global const uint* cell_count, __global double* clock, __global float* dt_f,
@@ -74,6 +75,8 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
     dt_f[0] = (float)dt_next;
     settle_counters[0] = settle_counters[1] = settle_counters[2] = 0u;
     *bad = NO_PARTICLE;
-    if (b != NO_PARTICLE) *halt = HALT_BAD;
+    // A failed particle or a collapsed step (the host reports both): nothing after it may change
+    // the state the host stops at.
+    if (b != NO_PARTICLE || next < dt_floor) *halt = HALT_BAD;
     else if (!(t < clock[3] - 1e-12)) *halt = HALT_EVENT;
 }

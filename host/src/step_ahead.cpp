@@ -29,6 +29,7 @@ void Simulation::Impl::setup_ahead() {
     const auto& sp = driver->params();
     dt_max = scene.run.fixed_dt > 0 ? scene.run.fixed_dt
                                     : scene.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0);
+    if (scene.run.fixed_dt <= 0) driver->slabs()[0].physics->set_dt_floor(options.dt_collapse * dt_max);
 }
 
 bool Simulation::Impl::may_enqueue(double t, std::uint64_t last_step) const {

@@ -213,6 +213,7 @@ void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cell
     end_k_.setArg(i++, static_cast<double>(sp_.h));
     end_k_.setArg(i++, static_cast<double>(sp_.c0));
     end_k_.setArg(i++, fixed_dt_);
+    end_k_.setArg(i++, dt_floor_);
     for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{
              &partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(), &clock_, &dt_f_,
              &halt_, &record_})

@@ -75,6 +75,8 @@ public:
     void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
                           cl_rt::EventSet& done);
     const cl_rt::Buffer& halt() const { return halt_; }
+    // A next CFL step below this halts the steps after it (the host stops there: a collapse).
+    void set_dt_floor(double dt) { dt_floor_ = dt; }
 
     // The step ahead: the probe points, fixed for the run; after a probe step, their sums enqueued
     // and read into `out` (2 floats a point, pinned) once `done` is waited for.
@@ -103,7 +105,7 @@ private:
     void write_dt(double dt);  // the synchronous path: dt_f from the host
     float dt_written_ = 0;
     bool dt_written_valid_ = false;
-    double cfl_ = 0, fixed_dt_ = 0;
+    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0;
     cl_rt::PinnedArray<double> clock_host_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;
