@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
     double dp = 0.006, until = 0.1;
     std::string interaction = "auto";
     std::string balance = "dynamic", balance_log, trace;
+    bool synchronous = false;
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
@@ -73,6 +74,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse"}));
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
+    app.add_flag("--synchronous", synchronous, "wait for every step on the host (the step ahead off)");
     app.add_option("--trace", trace, "CSV of every command's device start and end (ns) in the timed window, and a "
                                      "summary of where each device idles");
     CLI11_PARSE(app, argc, argv);
@@ -87,6 +89,7 @@ int main(int argc, char** argv) {
         opts.balance = clsph::balance_mode_from_name(balance);
         opts.balance_log = balance_log;
         opts.trace = !trace.empty();
+        opts.synchronous = synchronous;  // default: steps ahead of the host on one device (issue 15)
         clsph::Simulation sim(scene, opts);
         const double setup = std::chrono::duration<double>(clock::now() - t0).count();
         const auto p = sim.particles();
@@ -142,6 +145,8 @@ int main(int argc, char** argv) {
         if (several) total /= static_cast<double>(sim.device_names().size());
         std::printf(several ? "\ndevice time in kernels per device (mean): %.2f ms/step of %.2f ms/step wall\n"
                             : "\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
+        std::printf("the rest (host, waits, gaps between launches): %.1f %% of the step; steps %s\n",
+                    100.0 * (1.0 - total / wall), sim.steps_ahead() ? "ahead of the host" : "synchronous");
         const auto shares = sim.shares();
         if (shares.size() > 1) {
             std::printf("\nhost wall time per step phase (ms/step):\n");

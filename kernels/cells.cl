@@ -233,16 +233,46 @@ __kernel void locate_keys(const uint count, const uint n, __global const uint* k
 
 // After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and
 // cell_start[K] = n. Then scan[] is rewritten in place as the cell index of each particle.
-__kernel void scatter_cells(const uint n, __global const uint* keys, __global uint* scan, __global uint* cell_key,
-                            __global uint* cell_start) {
+// Cells beyond the tables' capacity `cap` are not written (the step ahead launches over a bound and
+// finds out on the device that it was exceeded: bound_cells).
+__kernel void scatter_cells(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
+                            __global uint* cell_key, __global uint* cell_start) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const uint c = scan[i];
-    if (starts_cell(keys, i)) {
+    if (starts_cell(keys, i) && c < cap) {
         cell_key[c] = keys[i];
         cell_start[c] = i;
     }
-    if (i == n - 1u) cell_start[scan[n]] = n;
+    if (i == n - 1u && scan[n] <= cap) cell_start[scan[n]] = n;
+}
+
+// The step ahead (no count read back): scatter_cells and cell_of_particle in one launch, over
+// max(n, cap + 1), with the tables holding `cap` cells (every launch over cells runs over all of
+// them). The count K = scan[n] goes to count[0] (at most cap: what the tables hold) and count[1]
+// (as found); cells K+1..cap start at n, so that a cell beyond K is empty to every loop. K > cap
+// halts the step (step_clock.cl): the host grows the tables and redoes it. Each work-item reads
+// scan[i] before it rewrites it, and scan[n] is never rewritten.
+__kernel void tables_bounded(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
+                             __global uint* cell_key, __global uint* cell_start, __global uint* count,
+                             __global uint* halt) {
+    const uint i = get_global_id(0);
+    const uint k = scan[n];
+    if (i == 0u) {
+        count[0] = min(k, cap);
+        count[1] = k;
+        if (k > cap) atomic_or(halt, 4u);
+    }
+    if (i > k && i <= cap) cell_start[i] = n;
+    if (i >= n) return;
+    const uint c = scan[i];
+    const uint first = starts_cell(keys, i);
+    if (first && c < cap) {
+        cell_key[c] = keys[i];
+        cell_start[c] = i;
+    }
+    if (i == n - 1u && k <= cap) cell_start[k] = n;
+    scan[i] = c + first - 1u;
 }
 
 __kernel void cell_of_particle(const uint n, __global const uint* keys, __global uint* scan) {
@@ -254,28 +284,45 @@ __kernel void cell_of_particle(const uint n, __global const uint* keys, __global
 // ranges[c * ROWS + r] = [begin, end) of the particles in neighbour row r of cell c (grid.h: the
 // cells b - REACH .. b + REACH at one (s + ds, a + da)): consecutive keys thanks to the padding of
 // b, hence one contiguous particle range. Rows off the domain are empty; axis a wraps if periodic.
-__kernel void neighbour_ranges(const uint k, const GridParams g, __global const uint* cell_key,
-                               __global const uint* cell_start, __global uint2* ranges) {
-    const uint c = get_global_id(0);
-    if (c >= k) return;
+inline void cell_ranges(const uint c, const uint k, const GridParams g, __global const uint* cell_key,
+                        __global const uint* cell_start, __global uint2* ranges) {
     const uint key = cell_key[c];
     const int s = (int)key_s(g, key), a = (int)key_a(g, key);
     const uint b = key_b(g, key);
     for (uint r = 0; r < ROWS; ++r) {
-        {
-            int s2 = s + row_ds(r), a2 = a + row_da(r);
-            if (g.periodic_a) {
-                if (a2 < 0) a2 += (int)g.n_a;
-                if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
-            }
-            uint2 range = (uint2)(0u, 0u);
-            if (s2 >= 0 && s2 < (int)g.n_s && a2 >= 0 && a2 < (int)g.n_a) {
-                const uint mid = make_key(g, (uint)s2, (uint)a2, b);
-                const uint first = lower_bound_key(cell_key, k, mid - CLSPH_REACH);
-                const uint last = lower_bound_key(cell_key, k, mid + CLSPH_REACH + 1u);
-                range = (uint2)(cell_start[first], cell_start[last]);
-            }
-            ranges[c * ROWS + r] = range;
+        int s2 = s + row_ds(r), a2 = a + row_da(r);
+        if (g.periodic_a) {
+            if (a2 < 0) a2 += (int)g.n_a;
+            if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
         }
+        uint2 range = (uint2)(0u, 0u);
+        if (s2 >= 0 && s2 < (int)g.n_s && a2 >= 0 && a2 < (int)g.n_a) {
+            const uint mid = make_key(g, (uint)s2, (uint)a2, b);
+            const uint first = lower_bound_key(cell_key, k, mid - CLSPH_REACH);
+            const uint last = lower_bound_key(cell_key, k, mid + CLSPH_REACH + 1u);
+            range = (uint2)(cell_start[first], cell_start[last]);
+        }
+        ranges[c * ROWS + r] = range;
+    }
+}
+
+__kernel void neighbour_ranges(const uint k, const GridParams g, __global const uint* cell_key,
+                               __global const uint* cell_start, __global uint2* ranges) {
+    const uint c = get_global_id(0);
+    if (c < k) cell_ranges(c, k, g, cell_key, cell_start, ranges);
+}
+
+// The step ahead: launched over the tables' capacity, the count read from count[0]; the cells
+// beyond it get empty rows.
+__kernel void neighbour_ranges_bounded(const uint cap, const GridParams g, __global const uint* count,
+                                       __global const uint* cell_key, __global const uint* cell_start,
+                                       __global uint2* ranges) {
+    const uint c = get_global_id(0);
+    if (c >= cap) return;
+    const uint k = count[0];
+    if (c < k) {
+        cell_ranges(c, k, g, cell_key, cell_start, ranges);
+    } else {
+        for (uint r = 0; r < ROWS; ++r) ranges[c * ROWS + r] = (uint2)(0u, 0u);
     }
 }

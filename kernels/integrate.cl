@@ -13,15 +13,20 @@
 
 inline bool is_fluid(const uint id) { return (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; }
 
-__kernel void kick_drift(const uint first, const uint last, const float dt, const float rho0,
-                         __global float4* pos, __global float4* velrho, __global const float4* accel,
-                         __global const uint* ids) {
+// dt is read from dt_f[0] (the device's clock writes it: step_clock.cl; the synchronous path writes
+// it from the host). While *halt is set (step_clock.cl) a step changes nothing. A particle with the
+// invalid key left the domain and waits at the end of the sorted arrays to be dropped: it rests.
+__kernel void kick_drift(const uint first, const uint last, __global const float* dt_f, const float rho0,
+                         const uint invalid_key, __global float4* pos, __global float4* velrho,
+                         __global const float4* accel, __global const uint* ids, __global const uint* halt) {
     const uint i = first + (uint)get_global_id(0);
-    if (i >= last) return;
+    if (i >= last || *halt != 0u) return;
+    float4 p = pos[i];
+    if (as_uint(p.w) == invalid_key) return;
+    const float dt = dt_f[0];
     float4 vr = velrho[i];
     const float4 a = accel[i];
     if (is_fluid(ids[i])) {
-        float4 p = pos[i];
         p.xyz += (vr.xyz + a.xyz * (0.5f * dt)) * dt;
         pos[i] = p;
         vr.xyz += a.xyz * dt;
@@ -35,15 +40,24 @@ __kernel void kick_drift(const uint first, const uint last, const float dt, cons
 // Second kick (old accelerations in `accel`, new ones in `accel_new`), then per work-group: max
 // |v|^2 and max |a|^2 of fluid, kinetic energy, fluid count into partials[group]; the lowest index
 // of a particle with a non-finite value or a density outside [rho_min, rho_max] into *bad (the
-// host fills it with 0xffffffff first).
+// host, or step_clock.cl's end_step, sets it to 0xffffffff first). While *halt is set the step
+// changes nothing: the old accelerations are copied over the new ones, so that swapping the two
+// buffers after it leaves accel as it was.
 __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void kick(
-    const uint first, const uint last, const float dt, const SphParams sp, __global float4* velrho,
-    __global const float4* accel, __global const float4* accel_new, __global const uint* ids,
-    __global float4* partials, __global uint* bad) {
+    const uint first, const uint last, __global const float* dt_f, const SphParams sp, const uint invalid_key,
+    __global const float4* pos, __global float4* velrho, __global const float4* accel, __global float4* accel_new,
+    __global const uint* ids, __global float4* partials, __global uint* bad, __global const uint* halt) {
     __local float4 red[WG];
     const uint lid = get_local_id(0);
+    const bool halted = *halt != 0u;
+    const float dt = dt_f[0];
     float4 acc = (float4)(0.0f);
     for (uint i = first + (uint)get_global_id(0); i < last; i += (uint)get_global_size(0)) {
+        if (halted) {
+            accel_new[i] = accel[i];
+            continue;
+        }
+        if (as_uint(pos[i].w) == invalid_key) continue;
         float4 vr = velrho[i];
         const float4 a = accel_new[i];
         const float4 da = (a - accel[i]) * (0.5f * dt);

@@ -5,12 +5,10 @@
 #include "grid.h"
 #include "sph_kernel.h"
 
-__kernel void probe_points(const uint points, const uint cells, const GridParams g, const SphParams sp,
-                           __global const float4* query, __global const uint* cell_key,
-                           __global const uint* cell_start, __global const float4* pos,
-                           __global const float4* velrho, __global const uint* ids, __global float2* out) {
-    const uint q = get_global_id(0);
-    if (q >= points) return;
+inline float2 probe_sums(const uint q, const uint cells, const GridParams g, const SphParams sp,
+                         __global const float4* query, __global const uint* cell_key,
+                         __global const uint* cell_start, __global const float4* pos,
+                         __global const float4* velrho, __global const uint* ids) {
     const float4 x = query[q];
     const uint key = pos_key(x);
     float2 sums = (float2)(0.0f);
@@ -41,5 +39,23 @@ __kernel void probe_points(const uint points, const uint cells, const GridParams
             }
         }
     }
-    out[q] = sums;
+    return sums;
+}
+
+__kernel void probe_points(const uint points, const uint cells, const GridParams g, const SphParams sp,
+                           __global const float4* query, __global const uint* cell_key,
+                           __global const uint* cell_start, __global const float4* pos,
+                           __global const float4* velrho, __global const uint* ids, __global float2* out) {
+    const uint q = get_global_id(0);
+    if (q < points) out[q] = probe_sums(q, cells, g, sp, query, cell_key, cell_start, pos, velrho, ids);
+}
+
+// The step ahead: the same after a probe step, in the queue, with the cell count read from
+// count[0] (CellPipeline::enqueue_tables_bounded).
+__kernel void probe_points_counted(const uint points, __global const uint* count, const GridParams g,
+                                   const SphParams sp, __global const float4* query, __global const uint* cell_key,
+                                   __global const uint* cell_start, __global const float4* pos,
+                                   __global const float4* velrho, __global const uint* ids, __global float2* out) {
+    const uint q = get_global_id(0);
+    if (q < points) out[q] = probe_sums(q, count[0], g, sp, query, cell_key, cell_start, pos, velrho, ids);
 }

@@ -49,6 +49,8 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--every", a.every, "simulated seconds between frames (default: the scene's run.output_every)");
     run.add_flag("--csv", a.csv, "also write every frame as CSV (id,type,x,y,z,vx,vy,vz,rho,p)");
     run.add_flag("--profile", a.profile, "time every kernel and print a per-kernel table at the end");
+    run.add_flag("--synchronous", a.synchronous,
+                 "wait for every step on the host (the step ahead off: dt, cell count and statistics read back per step)");
     // One KEY=VALUE per --set, so that `--set a=1 scene.json` still finds the scene.
     run.add_option("--set", a.overrides, "override a scene key, e.g. --set physics.dp=0.01 (repeatable)")
         ->allow_extra_args(false)

@@ -11,6 +11,8 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     Options opts;
     opts.devices = args.devices;
     opts.profile = args.profile;
+    opts.synchronous = args.synchronous;
+    if (args.steps) opts.step_limit = *args.steps;  // the step ahead stops exactly there
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;

@@ -19,6 +19,7 @@ struct RunArgs {
     std::string balance_log;                  // several devices: the balancer's per-step CSV
     bool csv = false;
     bool profile = false;
+    bool synchronous = false;                 // --synchronous: Options::synchronous
     bool dry_run = false;
     bool force = false;
     std::string interaction;                  // --interaction NAME; empty: the scene's run.interaction

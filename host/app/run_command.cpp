@@ -218,7 +218,9 @@ int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan&
     const Particles initial = scene.build_particles();
     write_vtu(plan.out_dir + "/last_good.vtu", initial);
     if (args.csv) write_csv(plan.out_dir + "/last_good.csv", initial);
-    record.finish("failed", StepInfo{0, 0.0, 0.0, initial.size(), 0, 0, 0.0, 0.0, 0.0}, message, exit_simulation_failed);
+    StepInfo at_start;  // step 0, t = 0
+    at_start.particles = initial.size();
+    record.finish("failed", at_start, message, exit_simulation_failed);
     std::cerr << "clsph: error: " << message << "\nclsph: the last good state is in " << plan.out_dir << "/last_good.vtu\n";
     return exit_simulation_failed;
 }

@@ -1,15 +1,8 @@
 // The facade behind clsph::Simulation: scene -> particles -> device pipeline -> steps.
-#include "clsph/simulation.hpp"
+#include "simulation_impl.hpp"
 
-#include "cl/device.hpp"
 #include "cl/errors.hpp"
-#include "clsph/error.hpp"
-#include "device/cell_pipeline.hpp"
-#include "device/grid.hpp"
-#include "device/particle_store.hpp"
-#include "device/physics.hpp"
 #include "surface/extract.hpp"
-#include "multi/slab_driver.hpp"
 #include "clsph/testing.hpp"
 
 #include <chrono>
@@ -19,60 +12,52 @@
 
 namespace clsph {
 
-struct Simulation::Impl {
-    Scene scene;
-    Options options;
-    std::vector<std::unique_ptr<cl_rt::Device>> devices;
-    device::Grid grid;
-    std::unique_ptr<multi::SlabDriver> driver;
-    StepInfo info;
-    double dt_next = 0.0;
-    Particles last_good;
-    std::size_t fluid_total = 0;
-    std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+void Simulation::Impl::fail(const multi::StepOutcome& k) {
+    auto& slab = driver->slabs()[k.bad_slab];
+    auto& d = *slab.device;
+    const auto index = static_cast<std::size_t>(k.kick.bad_index);
+    cl_uint id = 0;
+    float vr[4] = {0, 0, 0, 0};
+    d.read(slab.store->id, &id, 1, index);
+    d.read(slab.store->velrho, vr, 4, 4 * index);
+    fail_with(id, vr, dt_next, driver->slabs().size() > 1 ? d.label() : std::string());
+}
 
-    Impl(const Scene& s, const Options& o)
-        : scene(s),
-          options(o),
-          grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis, s.domain.periodic,
-               device::reach_for(s.physics.support(), s.physics.dp)) {}
+void Simulation::Impl::fail_with(std::uint32_t id, const float vr[4], double dt, const std::string& device) {
+    std::ostringstream o;
+    const bool fluid = (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
+    o << "step " << info.step + 1 << ", t = " << info.time + dt << " s: particle " << (id & CLSPH_ID_MASK) << " ("
+      << (fluid ? "fluid" : "boundary") << ") ";
+    if (!std::isfinite(vr[0]) || !std::isfinite(vr[1]) || !std::isfinite(vr[2]) || !std::isfinite(vr[3]))
+        o << "has a non-finite velocity or density";
+    else
+        o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << driver->params().rho_min << ", "
+          << driver->params().rho_max << "]";
+    if (!device.empty()) o << " on device " << device;
+    o << " (time step " << dt << " s). The run stopped; the last good state is at t = " << last_good_time << " s.";
+    throw SimulationError(o.str());
+}
 
-    double next_dt(const device::KickResult& k) const {
-        if (scene.run.fixed_dt > 0) return scene.run.fixed_dt;
-        const auto& sp = driver->params();
-        const double h = sp.h;
-        const double amax = std::sqrt(k.max_accel2), vmax = std::sqrt(k.max_speed2);
-        // Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)).
-        const double dt_force = amax > 0 ? std::sqrt(h / amax) : std::numeric_limits<double>::infinity();
-        const double dt_sound = h / (sp.c0 + vmax);
-        return scene.physics.cfl * std::min(dt_force, dt_sound);
-    }
+void Simulation::Impl::check_dt_collapse() {
+    if (scene.run.fixed_dt > 0) return;
+    const auto& sp = driver->params();
+    const double acoustic = scene.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0);
+    if (dt_next >= options.dt_collapse * acoustic) return;
+    std::ostringstream o;
+    o << "step " << info.step << ", t = " << info.time << " s: the time step collapsed to " << dt_next
+      << " s (below " << options.dt_collapse << " of the acoustic step " << acoustic << " s; max |v| = " << info.max_speed
+      << " m/s): the accelerations blew up. The run stopped; the last good state is at t = " << last_good_time
+      << " s.";
+    throw SimulationError(o.str());
+}
 
-    [[noreturn]] void fail(const multi::StepOutcome& k) {
-        auto& slab = driver->slabs()[k.bad_slab];
-        auto& d = *slab.device;
-        const auto index = static_cast<std::size_t>(k.kick.bad_index);
-        cl_uint id = 0;
-        float vr[4] = {0, 0, 0, 0};
-        d.read(slab.store->id, &id, 1, index);
-        d.read(slab.store->velrho, vr, 4, 4 * index);
-        std::ostringstream o;
-        const bool fluid = (id >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
-        o << "step " << info.step + 1 << ", t = " << info.time + dt_next << " s: particle " << (id & CLSPH_ID_MASK)
-          << " (" << (fluid ? "fluid" : "boundary") << ") ";
-        if (!std::isfinite(vr[0]) || !std::isfinite(vr[1]) || !std::isfinite(vr[2]) || !std::isfinite(vr[3]))
-            o << "has a non-finite velocity or density";
-        else
-            o << "has density " << vr[3] << " kg/m^3, outside the allowed band [" << driver->params().rho_min << ", "
-              << driver->params().rho_max << "]";
-        if (driver->slabs().size() > 1) o << " on device " << d.label();
-        o << " (time step " << dt_next << " s). The run stopped; the last good state is at t = "
-          << last_good_time << " s.";
-        throw SimulationError(o.str());
-    }
-
-    double last_good_time = 0.0;
-};
+void Simulation::Impl::device_failed(const DeviceError& e, double dt) {
+    // A device failed mid-step: the device state is lost, the last good state is on the host.
+    std::ostringstream o;
+    o << "step " << info.step + 1 << ", t = " << info.time + dt << " s: " << e.what()
+      << ". The run stopped; the last good state is at t = " << last_good_time << " s.";
+    throw DeviceError(e.code(), o.str(), e.call(), e.device());
+}
 
 BalanceMode balance_mode_from_name(const std::string& name) {
     if (name == "dynamic") return BalanceMode::dynamic;
@@ -99,6 +84,7 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
                                                            : balance::Mode::off;
     dopt.balance_log = options.balance_log;
     dopt.headroom = options.capacity_headroom;
+    dopt.cell_headroom = options.cell_headroom;
     using Mode = cl_rt::EventSet::Mode;
     dopt.wait = options.wait == WaitMode::poll    ? Mode::poll
                 : options.wait == WaitMode::block ? Mode::block
@@ -115,25 +101,27 @@ Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::
     m.info.fluid = k.kick.fluid;
     m.info.kinetic_energy = k.kick.kinetic_energy;
     m.info.max_speed = std::sqrt(k.kick.max_speed2);
+    m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.dt_next = m.next_dt(k.kick);
     m.last_good = p;
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
+    m.setup_ahead();
 }
 
 Simulation::~Simulation() = default;
 
 const StepInfo& Simulation::step() {
     auto& m = *impl_;
+    if (m.ahead) {
+        m.run_ahead(std::numeric_limits<double>::infinity(), {}, 1);
+        return m.info;
+    }
     const double dt = m.dt_next;
     multi::StepOutcome k;
     try {
         k = cl_rt::guarded("taking a step", "", [&] { return m.driver->step(dt); });
     } catch (const DeviceError& e) {
-        // A device failed mid-step: the device state is lost, the last good state is on the host.
-        std::ostringstream o;
-        o << "step " << m.info.step + 1 << ", t = " << m.info.time + dt << " s: " << e.what()
-          << ". The run stopped; the last good state is at t = " << m.last_good_time << " s.";
-        throw DeviceError(e.code(), o.str(), e.call(), e.device());
+        m.device_failed(e, dt);
     }
     if (k.kick.bad_index >= 0) m.fail(k);
     m.info.step += 1;
@@ -144,12 +132,18 @@ const StepInfo& Simulation::step() {
     m.info.fluid = k.kick.fluid;
     m.info.kinetic_energy = k.kick.kinetic_energy;
     m.info.max_speed = std::sqrt(k.kick.max_speed2);
+    m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.info.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.started).count();
     m.dt_next = m.next_dt(k.kick);
+    m.check_dt_collapse();
     return m.info;
 }
 
 void Simulation::run_until(double t, const std::function<void(const StepInfo&)>& on_step) {
+    if (impl_->ahead) {
+        impl_->run_ahead(t, on_step, 0);
+        return;
+    }
     while (impl_->info.time < t - 1e-12) {
         // Land on t exactly rather than overshooting it by most of a step.
         impl_->dt_next = std::min(impl_->dt_next, std::max(t - impl_->info.time, 1e-12));
@@ -170,6 +164,8 @@ Particles Simulation::particles() {
     m.last_good_time = m.info.time;
     return p;
 }
+
+bool Simulation::steps_ahead() const { return impl_->ahead; }
 
 const Particles& Simulation::last_good() const { return impl_->last_good; }
 const StepInfo& Simulation::info() const { return impl_->info; }
@@ -196,22 +192,37 @@ TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     return surface::extract_surface(*impl_->driver, impl_->grid, impl_->scene, options);
 }
 
-std::vector<ProbeSample> Simulation::sample_probes() {
-    auto& m = *impl_;
-    std::vector<std::array<double, 3>> points;
-    std::vector<std::size_t> first;  // first point of each probe
-    const double dz = 0.5 * m.scene.physics.dp;
-    const double z0 = m.scene.domain.min[2], z1 = m.scene.domain.max[2];
-    for (const auto& pr : m.scene.probes) {
-        first.push_back(points.size());
+Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const {
+    ProbePoints p;
+    const double z0 = scene.domain.min[2], z1 = scene.domain.max[2];
+    p.dz = 0.5 * scene.physics.dp;
+    for (const auto& pr : scene.probes) {
+        p.first.push_back(p.points.size());
         if (pr.kind == Probe::Kind::pressure) {
-            points.push_back(pr.point);
+            p.points.push_back(pr.point);
         } else {
-            for (double z = z0; z <= z1 + 1e-12; z += dz) points.push_back({pr.point[0], pr.point[1], z});
+            for (double z = z0; z <= z1 + 1e-12; z += p.dz) p.points.push_back({pr.point[0], pr.point[1], z});
         }
     }
-    first.push_back(points.size());
-    const auto sums = cl_rt::guarded("sampling the probes", "", [&] { return m.driver->probe(points); });
+    p.first.push_back(p.points.size());
+    return p;
+}
+
+std::vector<ProbeSample> Simulation::sample_probes() {
+    auto& m = *impl_;
+    const auto pp = m.probe_points();
+    const auto& points = pp.points;
+    const auto& first = pp.first;
+    const double dz = pp.dz;
+    std::vector<std::array<float, 2>> sums;
+    if (m.ahead && m.probed_step == m.info.step && m.probed.size() == points.size()) {
+        sums = m.probed;  // computed in the queue after this probe step (the step ahead)
+    } else {
+        if (!m.in_flight.empty())
+            throw Error("sample_probes(): steps run ahead of the host (Options::steps_ahead), so inside the step "
+                        "callback the probes are available only on probe steps (run.probe_every)");
+        sums = cl_rt::guarded("sampling the probes", "", [&] { return m.driver->probe(points); });
+    }
     std::vector<ProbeSample> out;
     for (std::size_t i = 0; i < m.scene.probes.size(); ++i) {
         const auto& pr = m.scene.probes[i];

@@ -303,18 +303,6 @@ std::string device_list(std::size_t count) {
     return s;
 }
 
-// Triangles as sorted triples of vertex positions, the triples sorted: a mesh's triangle set,
-// whatever the vertex numbering.
-std::vector<std::array<float, 9>> triangle_set(const TriangleMesh& m) {
-    std::vector<std::array<float, 9>> out;
-    for (const auto& t : m.triangles) {
-        std::array<std::array<float, 3>, 3> v{m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
-        std::sort(v.begin(), v.end());
-        out.push_back({v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]});
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
 }  // namespace
 
 TEST_SUITE("surface") {

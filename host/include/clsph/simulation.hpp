@@ -40,6 +40,21 @@ struct Options {
     BalanceMode balance = BalanceMode::dynamic;
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none
     WaitMode wait = WaitMode::callbacks;
+    // synchronous (the library's default): the host waits for every step, so an exception thrown
+    // by the step callback leaves the state at that step. Off: the step ahead (one device with
+    // cl_khr_fp64; docs/multi_device.md): dt chosen on the device, no count read back per step,
+    // each step's statistics read up to steps_ahead steps later — bitwise the same states, but an
+    // exception from the callback leaves the state (and info()) at the last step in flight. The
+    // clsph tool runs steps ahead unless --synchronous.
+    bool synchronous = true;
+    std::size_t steps_ahead = 8;    // steps in flight at most (the ring of results)
+    double cell_headroom = 0.25;    // spare capacity of the cell tables, whose bound the step ahead launches over
+    // A CFL step below this fraction of the acoustic step at rest (cfl h / c0) stops the run with a
+    // SimulationError, as a blow-up does (1e-3: accelerations of ~1e6 c0^2/h). Not with fixed_dt.
+    double dt_collapse = 1e-3;
+    // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
+    // by the step callback has taken exactly that many steps (run_until returns there, short of t).
+    std::uint64_t step_limit = 0;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
     std::shared_ptr<const testing::Seams> seams;
 };
@@ -67,6 +82,7 @@ struct StepInfo {
     std::size_t removed = 0;   // particles removed so far (left the domain)
     double kinetic_energy = 0.0;  // J, fluid particles
     double max_speed = 0.0;    // m/s
+    std::size_t cells = 0;     // non-empty grid cells after the step (one device; several: 0)
     double wall_seconds = 0.0; // since the run began
 };
 
@@ -128,8 +144,10 @@ public:
     TriangleMesh surface(const SurfaceOptions& options = {});
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
-    std::vector<KernelTime> host_phases() const;
-    std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)  // several devices: host wall time per step phase
+    std::vector<KernelTime> host_phases() const;  // host wall time per step phase
+    std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)
+    // Whether steps run ahead of the host (Options::synchronous off, one device with cl_khr_fp64).
+    bool steps_ahead() const;
     std::vector<MemoryReport> memory() const;
 
     struct Impl;

@@ -33,12 +33,16 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     edge_gather_k_ = k("edge_gather");
     edge_place_k_ = k("edge_place");
     arrival_keys_k_ = k("arrival_keys");
-    reserve_cells(1024);
+    tables_bounded_k_ = k("tables_bounded");
+    ranges_bounded_k_ = k("neighbour_ranges_bounded");
+    cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
+    device.fill(cell_count_, cl_uint{0}, 2);
+    reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
 }
 
 void CellPipeline::reserve_cells(std::size_t k) {
     if (k <= cell_capacity_ && cell_key_) return;
-    const std::size_t cap = k + k / 4 + 16;
+    const std::size_t cap = k + static_cast<std::size_t>(static_cast<double>(k) * cell_headroom_) + 16;
     cell_key_ = cl_rt::Buffer();
     cell_start_ = cl_rt::Buffer();
     ranges_ = cl_rt::Buffer();
@@ -190,7 +194,7 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
     if (n == 0) return 0;
     const std::size_t k = cell_count_host_.empty() ? 0 : cell_count_host_[0];
     reserve_cells(k);
-    set_args(scatter_k_, n, ps.keys, ps.vals, cell_key_, cell_start_);
+    set_args(scatter_k_, n, cell_capacity_, ps.keys, ps.vals, cell_key_, cell_start_);
     d.launch("cells.scatter", scatter_k_, n, wg_);
     set_args(cell_of_k_, n, ps.keys, ps.vals);
     d.launch("cells.cell_of", cell_of_k_, n, wg_);
@@ -198,6 +202,20 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
     d.launch("cells.ranges", ranges_k_, k, wg_);
     cells_ = k;
     return k;
+}
+
+void CellPipeline::enqueue_tables_bounded(ParticleStore& ps, std::size_t n, const cl_rt::Buffer& halt) {
+    auto& d = device_;
+    if (n == 0) return;
+    const std::size_t cap = cell_capacity_;
+    set_args(flag_k_, n, ps.keys, ps.vals);
+    d.launch("cells.flag", flag_k_, n, wg_);
+    scan_.exclusive(ps.vals, ps.vals, n);
+    set_args(tables_bounded_k_, n, cap, ps.keys, ps.vals, cell_key_, cell_start_, cell_count_, halt);
+    d.launch("cells.scatter_bounded", tables_bounded_k_, std::max(n, cap + 1), wg_);
+    set_args(ranges_bounded_k_, cap, grid_.params(), cell_count_, cell_key_, cell_start_, ranges_);
+    d.launch("cells.ranges", ranges_bounded_k_, cap, wg_);
+    cells_ = cap;
 }
 
 void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::EventSet& done) {
@@ -211,6 +229,18 @@ void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::Event
              counters_);
     d.launch("cells.settle", settle_k_, ps.ranges.owned, wg_);
     d.read_async(counters_, counters_host_.data(), 3 * sizeof(cl_uint), 0, done);
+}
+
+void CellPipeline::enqueue_settle_on_device(ParticleStore& ps, KeyRange keep) {
+    auto& d = device_;
+    if (!counters_) {
+        counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
+        d.fill(counters_, cl_uint{0}, 3);
+    }
+    if (ps.ranges.owned == 0) return;
+    set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(), ps.pos,
+             counters_);
+    d.launch("cells.settle", settle_k_, ps.ranges.owned, wg_);
 }
 
 Settled CellPipeline::settled() const {

@@ -78,6 +78,9 @@ public:
     // counts what settled() reports.
     void enqueue_settle(ParticleStore& store, KeyRange keep, cl_rt::EventSet& done);
     Settled settled() const;
+    // The step ahead: the same settle with its counters left on the device (end_step reads and
+    // resets them: kernels/step_clock.cl).
+    void enqueue_settle_on_device(ParticleStore& store, KeyRange keep);
     // For each block (a receiving device): the particles of the window [first, end) whose key lies
     // in `keys`, in order, into `out` at `base`; their count is read into gather_count(block).
     void begin_gathers(std::size_t blocks);
@@ -108,6 +111,20 @@ public:
     // `done`; after the wait, finish_tables enqueues the rest.
     void enqueue_count_cells(ParticleStore& store, std::size_t n, cl_rt::EventSet& done);
     std::size_t finish_tables(ParticleStore& store, std::size_t n);
+    // The step ahead: the tables without the count coming back. Every launch over cells runs over
+    // the tables' capacity; the count lands in cell_count() ([0]: what the tables hold, [1]: as
+    // found); a count above the capacity sets HALT_CELLS in `halt` (kernels/step_clock.cl) and
+    // the host grows the tables (grow_cells) and redoes the step.
+    void enqueue_tables_bounded(ParticleStore& store, std::size_t n, const cl_rt::Buffer& halt);
+    const cl_rt::Buffer& cell_count() const { return cell_count_; }
+    std::size_t cell_capacity() const { return cell_capacity_; }
+    // Room for k cells (with the headroom); the next bounded tables launch over it.
+    void grow_cells(std::size_t k) { reserve_cells(k); }
+    // The count as the host learnt it (the step ahead): probes read the tables with it.
+    void set_counted_cells(std::size_t k) { cells_ = std::min(k, cell_capacity_); }
+    // Spare cell capacity kept when the tables grow (Options::cell_headroom).
+    void set_cell_headroom(double h) { cell_headroom_ = h; }
+    const cl_rt::Buffer& settle_counters() const { return counters_; }
 
     std::size_t cells() const { return cells_; }
     const cl_rt::Buffer& cell_key() const { return cell_key_; }
@@ -124,6 +141,9 @@ private:
     Scan scan_;
     std::size_t wg_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
+    cl::Kernel tables_bounded_k_, ranges_bounded_k_;
+    cl_rt::Buffer cell_count_;
+    double cell_headroom_ = 0.25;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;

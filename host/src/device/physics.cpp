@@ -1,5 +1,6 @@
 #include "device/physics.hpp"
 
+#include "cl/errors.hpp"
 #include "cl/kernel_args.hpp"
 
 #include <cmath>
@@ -76,9 +77,22 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
     kick_k_ = device.kernel("integrate.cl", "kick", integ);
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
+    probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
     kick_groups_ = std::max<std::size_t>(1, std::min<std::size_t>(256, device.info().compute_units * 4));
     partials_ = device.alloc(kick_groups_ * 4 * sizeof(float), "kick reductions");
     bad_ = device.alloc(sizeof(cl_uint), "failure flag");
+    dt_f_ = device.alloc(sizeof(float), "time step");
+    halt_ = device.alloc(sizeof(cl_uint), "halt flag");
+    device.fill(halt_, cl_uint{0}, 1);
+    cfl_ = scene.physics.cfl;
+    fixed_dt_ = scene.run.fixed_dt;
+    const std::string ext = device.cl_device().getInfo<CL_DEVICE_EXTENSIONS>();
+    has_clock_ = ext.find("cl_khr_fp64") != std::string::npos;
+    if (has_clock_) {
+        end_k_ = device.kernel("step_clock.cl", "end_step", "");
+        clock_ = device.alloc(4 * sizeof(double), "step clock");
+        device.fill(bad_, cl_uint{0xffffffffu}, 1);
+    }
 }
 
 namespace {
@@ -129,25 +143,113 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
 }
 
 void Physics::kick_drift(ParticleStore& ps, double dt) {
+    write_dt(dt);
+    kick_drift_on_clock(ps);
+}
+
+void Physics::kick_drift_on_clock(ParticleStore& ps) {
     const std::size_t n = ps.ranges.owned;
-    cl_rt::set_args(kick_drift_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), static_cast<float>(dt), sp_.rho0,
-                    ps.pos, ps.velrho, ps.accel, ps.id);
+    if (n == 0) return;
+    cl_rt::set_args(kick_drift_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), dt_f_, sp_.rho0,
+                    grid_.params().invalid_key, ps.pos, ps.velrho, ps.accel, ps.id, halt_);
     device_.launch("sph.kick_drift", kick_drift_k_, n, wg_);
 }
 
 void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) {
     const cl_uint none = 0xffffffffu;
     device_.fill(bad_, none, 1);
-    cl_rt::set_args(kick_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), static_cast<float>(dt), sp_, ps.velrho,
-                    ps.accel, ps.scratch, ps.id, partials_, bad_);
-    device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
-    ps.accel.swap(ps.scratch);
+    write_dt(dt);
+    enqueue_kick_on_clock(ps);
     partials_host_.resize(device_, kick_groups_ * 4);
     std::fill(partials_host_.data(), partials_host_.data() + kick_groups_ * 4, 0.0f);
     bad_host_.resize(device_, 1);
     bad_host_[0] = none;
     device_.read_async(partials_, partials_host_.data(), kick_groups_ * 4 * sizeof(float), 0, done);
     device_.read_async(bad_, bad_host_.data(), sizeof(cl_uint), 0, done);
+}
+
+void Physics::write_dt(double dt) {
+    const float f = static_cast<float>(dt);
+    if (f == dt_written_ && dt_written_valid_) return;  // the kick of a step reuses its drift's
+    device_.fill(dt_f_, f, 1);  // the pattern is copied at once: nothing to keep
+    dt_written_ = f;
+    dt_written_valid_ = true;
+}
+
+void Physics::enqueue_kick_on_clock(ParticleStore& ps) {
+    cl_rt::set_args(kick_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), dt_f_, sp_, grid_.params().invalid_key,
+                    ps.pos, ps.velrho, ps.accel, ps.scratch, ps.id, partials_, bad_, halt_);
+    device_.launch("sph.kick", kick_k_, kick_groups_ * wg_, wg_);
+    ps.accel.swap(ps.scratch);
+}
+
+void Physics::set_clock(double time, double next_dt, double event) {
+    // The first step's dt as end_step computes the ones after it (and run_until on the host).
+    const double dt = std::min(next_dt, std::max(event - time, 1e-12));
+    clock_host_.resize(device_, 4);
+    clock_host_[0] = time;
+    clock_host_[1] = dt;
+    clock_host_[2] = next_dt;
+    clock_host_[3] = event;
+    device_.write(clock_, clock_host_.data(), 4);
+    const float f = static_cast<float>(dt);
+    device_.write(dt_f_, &f, 1);
+    dt_written_valid_ = false;  // the clock writes dt_f from here on
+    clear_halt();
+}
+
+void Physics::clear_halt() { device_.fill(halt_, cl_uint{0}, 1); }
+
+void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
+                               cl_rt::EventSet& done) {
+    const std::size_t bytes = StepRecord::kDoubles * sizeof(double);
+    if (record_.bytes() < (slot + 1) * bytes) {
+        record_ = cl_rt::Buffer();
+        record_ = device_.alloc((slot + 1) * bytes, "step records");
+    }
+    cl_uint i = 0;
+    end_k_.setArg(i++, static_cast<cl_uint>(kick_groups_));
+    end_k_.setArg(i++, cfl_);
+    end_k_.setArg(i++, static_cast<double>(sp_.h));
+    end_k_.setArg(i++, static_cast<double>(sp_.c0));
+    end_k_.setArg(i++, fixed_dt_);
+    end_k_.setArg(i++, dt_floor_);
+    for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{
+             &partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(), &clock_, &dt_f_,
+             &halt_, &record_})
+        end_k_.setArg(i++, b->get());
+    end_k_.setArg(i++, cl_rt::checked_uint(slot));
+    device_.launch("clock.end", end_k_, 1, 1);
+    // The record comes back on the transfer queue, after a marker: the compute queue goes on with
+    // the next step instead of waiting for the copy (each slot has its own record on the device,
+    // which the host reads before it enqueues the step that writes that slot again).
+    cl::Event marker, read;
+    cl_rt::check(device_.queue().enqueueMarkerWithWaitList(nullptr, &marker), "marking a step's end", device_.label());
+    const std::vector<cl::Event> after{marker};
+    cl_rt::check(device_.transfer_queue().enqueueReadBuffer(record_.get(), CL_FALSE, slot * bytes, bytes, record, &after,
+                                                            &read),
+                 "reading a step's record", device_.label());
+    done.add(device_, std::move(read));
+    cl_rt::check(device_.transfer_queue().flush(), "submitting the transfer queue", device_.label());
+}
+
+StepRecord StepRecord::from(const double* r) {
+    StepRecord s;
+    s.time = r[0];
+    s.dt = r[1];
+    s.kick.max_speed2 = r[2];
+    s.kick.max_accel2 = r[3];
+    s.kick.kinetic_energy = r[4];
+    s.next_dt = r[5];
+    s.halt = static_cast<unsigned>(r[6]);
+    s.kick.bad_index = static_cast<std::int64_t>(r[7]);
+    s.bad_id = static_cast<std::uint32_t>(r[8]);
+    for (int k = 0; k < 4; ++k) s.bad_velrho[k] = static_cast<float>(r[9 + k]);
+    s.left_domain = static_cast<std::size_t>(r[13]);
+    s.jumped = static_cast<std::size_t>(r[14]);
+    s.cells = static_cast<std::size_t>(r[15]);
+    s.kick.fluid = static_cast<std::size_t>(r[16]);
+    return s;
 }
 
 KickResult Physics::kick_result() const {
@@ -163,10 +265,7 @@ KickResult Physics::kick_result() const {
     return r;
 }
 
-std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPipeline& cells,
-                                                 const std::vector<std::array<double, 3>>& points) {
-    std::vector<std::array<float, 2>> out(points.size());
-    if (points.empty()) return out;
+std::vector<float> Physics::probe_query(const std::vector<std::array<double, 3>>& points) const {
     std::vector<float> q(4 * points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         std::array<float, 3> off{};
@@ -174,6 +273,31 @@ std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPi
         std::memcpy(&q[4 * i], off.data(), sizeof off);
         std::memcpy(&q[4 * i + 3], &key, sizeof key);
     }
+    return q;
+}
+
+void Physics::set_probe_points(const std::vector<std::array<double, 3>>& points) {
+    fixed_points_ = points.size();
+    if (points.empty()) return;
+    const std::vector<float> q = probe_query(points);
+    fixed_in_ = device_.alloc(q.size() * sizeof(float), "probe points (fixed)");
+    fixed_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums (fixed)");
+    device_.write(fixed_in_, q.data(), q.size());
+}
+
+void Physics::enqueue_probe(ParticleStore& ps, const CellPipeline& cells, float* out, cl_rt::EventSet& done) {
+    if (fixed_points_ == 0) return;
+    cl_rt::set_args(probe_counted_k_, fixed_points_, cells.cell_count(), grid_.params(), sp_, fixed_in_,
+                    cells.cell_key(), cells.cell_start(), ps.pos, ps.velrho, ps.id, fixed_out_);
+    device_.launch("probe.points", probe_counted_k_, fixed_points_, wg_);
+    device_.read_async(fixed_out_, out, fixed_points_ * 2 * sizeof(float), 0, done);
+}
+
+std::vector<std::array<float, 2>> Physics::probe(ParticleStore& ps, const CellPipeline& cells,
+                                                 const std::vector<std::array<double, 3>>& points) {
+    std::vector<std::array<float, 2>> out(points.size());
+    if (points.empty()) return out;
+    const std::vector<float> q = probe_query(points);
     if (probe_in_.bytes() < q.size() * sizeof(float)) {
         probe_in_ = device_.alloc(q.size() * sizeof(float), "probe points");
         probe_out_ = device_.alloc(points.size() * 2 * sizeof(float), "probe sums");

@@ -28,6 +28,20 @@ struct KickResult {
     std::int64_t bad_index = -1;  // a particle that failed the checks, or -1
 };
 
+// One step as the device's clock recorded it (kernels/step_clock.cl, end_step), read by the host
+// a few steps later.
+struct StepRecord {
+    static constexpr std::size_t kDoubles = 17;
+    double time = 0, dt = 0, next_dt = 0;  // after the step; the step; the next CFL step (unclamped)
+    KickResult kick;
+    unsigned halt = 0;                    // non-zero: the step changed nothing (kHalt*)
+    std::uint32_t bad_id = 0;             // with kick.bad_index: the particle's id word and velrho
+    float bad_velrho[4] = {0, 0, 0, 0};
+    std::size_t left_domain = 0, jumped = 0, cells = 0;  // from settle and the bounded tables
+    static StepRecord from(const double* raw);
+};
+constexpr unsigned kHaltEvent = 1, kHaltBad = 2, kHaltCells = 4;
+
 class Physics {
 public:
     // `form`: the interaction form to run; automatic picks one by device type (interaction_for).
@@ -40,12 +54,35 @@ public:
     // ps.accel.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     void kick_drift(ParticleStore& ps, double dt);
+    // The step ahead: the same first kick with the dt the device's clock chose (begin_step).
+    void kick_drift_on_clock(ParticleStore& ps);
     // The second kick: combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps
     // them so ps.accel holds the new ones; the reductions are read into `done`, and after the wait
     // kick_result() has them.
     void enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done);
     KickResult kick_result() const;
+    // The second kick without reading its reductions back (the step ahead: end_step reads them).
+    void enqueue_kick_on_clock(ParticleStore& ps);
 
+    // The device's clock (kernels/step_clock.cl): needs cl_khr_fp64, so that it takes the host's
+    // steps bitwise. set_clock: time, the next CFL step and the event to land on (the first step's
+    // dt from them; end_step chooses each next one); clears the halt.
+    bool has_clock() const { return has_clock_; }
+    void set_clock(double time, double next_dt, double event);
+    void clear_halt();
+    // The reductions, the clock advanced, the record of ring slot `slot` read into `record`
+    // (StepRecord::kDoubles doubles of pinned memory that must stay put until `done` is waited for).
+    void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
+                          cl_rt::EventSet& done);
+    const cl_rt::Buffer& halt() const { return halt_; }
+    // A next CFL step below this halts the steps after it (the host stops there: a collapse).
+    void set_dt_floor(double dt) { dt_floor_ = dt; }
+
+    // The step ahead: the probe points, fixed for the run; after a probe step, their sums enqueued
+    // and read into `out` (2 floats a point, pinned) once `done` is waited for.
+    void set_probe_points(const std::vector<std::array<double, 3>>& points);
+    void enqueue_probe(ParticleStore& ps, const CellPipeline& cells, float* out, cl_rt::EventSet& done);
+    std::size_t probe_points() const { return fixed_points_; }
     // Per probe point: (sum V W, sum p V W) over fluid neighbours. Blocking.
     std::vector<std::array<float, 2>> probe(ParticleStore& ps, const CellPipeline& cells,
                                             const std::vector<std::array<double, 3>>& points);
@@ -59,6 +96,17 @@ private:
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
+    cl_rt::Buffer dt_f_, halt_, clock_, record_;
+    cl::Kernel end_k_, probe_counted_k_;
+    cl_rt::Buffer fixed_in_, fixed_out_;
+    std::size_t fixed_points_ = 0;
+    std::vector<float> probe_query(const std::vector<std::array<double, 3>>& points) const;
+    bool has_clock_ = false;
+    void write_dt(double dt);  // the synchronous path: dt_f from the host
+    float dt_written_ = 0;
+    bool dt_written_valid_ = false;
+    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0;
+    cl_rt::PinnedArray<double> clock_host_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;
     cl_rt::PinnedArray<cl_uint> bad_host_;

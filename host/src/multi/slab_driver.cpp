@@ -26,6 +26,7 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
             static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + options.headroom));
         s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options.headroom);
         s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
+        s.cells->set_cell_headroom(options.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }

@@ -32,6 +32,7 @@ struct DriverOptions {
     balance::Mode balance = balance::Mode::dynamic;
     std::string balance_log;  // CSV path, empty: none
     double headroom = 0.25;   // spare particle capacity per device
+    double cell_headroom = 0.25;  // spare capacity of the cell tables
     cl_rt::EventSet::Mode wait = cl_rt::EventSet::Mode::callbacks;
     testing::Seams seams;
 };
@@ -50,6 +51,19 @@ public:
     StepOutcome start();  // the first exchange, forces and a zero kick
     StepOutcome step(double dt);
     Particles download();  // owned particles of every device
+
+    // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
+    // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
+    bool can_step_ahead() const { return slabs_.size() == 1 && slabs_[0].physics->has_clock(); }
+    void set_clock(double time, double next_dt, double event) { slabs_[0].physics->set_clock(time, next_dt, event); }
+    void enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
+    // After a step halted on the cell tables' bound: tables grown to `cells`, the step again from
+    // its settle (its drift is done; the steps after it changed nothing and are uncounted).
+    void redo_step_ahead(std::size_t cells, std::size_t uncounted, std::size_t slot, double* record,
+                         cl_rt::EventSet& done);
+    // Particles that left the domain wait at the end of the sorted arrays until no step is in flight.
+    void drop_left(std::size_t n) { slabs_[0].store->ranges.owned -= n; }
+    std::size_t cell_capacity() const { return slabs_[0].cells->cell_capacity(); }
     std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
 
     const SphParams& params() const { return slabs_.front().physics->params(); }
@@ -68,6 +82,7 @@ private:
     void forces(std::size_t d);
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
     StepOutcome reductions(cl_rt::EventSet& kicked);
+    void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     void read_force_times();
 
     Partition partition_;

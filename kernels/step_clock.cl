@@ -1,0 +1,82 @@
+// The time step chosen on the device (docs/multi_device.md, "The step ahead"): the kick's
+// per-group reductions become the next CFL step, clamped to the next event, with no host round
+// trip. The arithmetic is the host's (simulation.cpp, next_dt and run_until) in double, whose
+// divide and sqrt OpenCL rounds correctly, so both paths take bitwise the same steps.
+//
+// clock[0] time before the step under way      clock[1] its dt (dt_f: the same as float)
+// clock[2] the next CFL step, not yet clamped
+// clock[3] the event the run lands on (a frame, --until; +inf: none)
+// *halt    non-zero: every kernel that changes the state does nothing (an event reached, the cell
+//          tables overflowed, a particle failed the checks); the host clears it
+// records  a ring of step records, one per slot of the host's ring (StepRecord::from)
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+
+#define HALT_EVENT 1u
+#define HALT_BAD 2u
+#define HALT_CELLS 4u
+#define NO_PARTICLE 0xffffffffu
+
+// After the kick: the reductions over its work-groups, time advanced, the next CFL step and the
+// next step's dt (the CFL step shortened to land on the event, as run_until does on the host;
+// Physics::set_clock computes the first one on the host), the record, and the counters reset for
+// the next step (so the host enqueues no fills).
+__kernel void end_step(const uint groups, const double cfl, const double h, const double c0, const double fixed_dt,
+                       const double dt_floor,
+                       __global const float4* partials, __global uint* bad, __global const uint* ids,
+                       __global const float4* velrho, __global uint* settle_counters,
+                       __global const uint* cell_count, __global double* clock, __global float* dt_f,
+                       __global uint* halt, __global double* records, const uint slot) {
+    if (get_global_id(0) != 0) return;
+    __global double* record = records + slot * 17u;  // StepRecord::kDoubles
+    const uint halted = *halt;
+    record[15] = (double)cell_count[1];
+    record[6] = (double)halted;
+    if (halted != 0u) return;  // this step changed nothing: the host redoes or drops it
+    double vmax2 = 0.0, amax2 = 0.0, energy = 0.0, fluid = 0.0;
+    for (uint g = 0; g < groups; ++g) {
+        const float4 p = partials[g];
+        vmax2 = fmax(vmax2, (double)p.x);
+        amax2 = fmax(amax2, (double)p.y);
+        energy += (double)p.z;
+        fluid += (double)(ulong)p.w;
+    }
+    double next = fixed_dt;
+    if (!(fixed_dt > 0.0)) {
+        // Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)).
+        const double amax = sqrt(amax2), vmax = sqrt(vmax2);
+        const double dt_force = amax > 0.0 ? sqrt(h / amax) : INFINITY;
+        const double dt_sound = h / (c0 + vmax);
+        next = cfl * fmin(dt_force, dt_sound);
+    }
+    const double t = clock[0] + clock[1];
+    clock[0] = t;
+    clock[2] = next;
+    const double dt_next = fmin(next, fmax(clock[3] - t, 1e-12));
+    const uint b = *bad;
+    record[0] = t;
+    record[1] = clock[1];  // before it becomes the next step's
+    record[2] = vmax2;
+    record[3] = amax2;
+    record[4] = energy;
+    record[5] = next;
+    record[7] = b == NO_PARTICLE ? -1.0 : (double)b;
+    if (b != NO_PARTICLE) {
+        const float4 vr = velrho[b];
+        record[8] = (double)ids[b];
+        record[9] = (double)vr.x;
+        record[10] = (double)vr.y;
+        record[11] = (double)vr.z;
+        record[12] = (double)vr.w;
+    }
+    record[13] = (double)settle_counters[0];
+    record[14] = (double)settle_counters[1];
+    record[16] = fluid;
+    clock[1] = dt_next;
+    dt_f[0] = (float)dt_next;
+    settle_counters[0] = settle_counters[1] = settle_counters[2] = 0u;
+    *bad = NO_PARTICLE;
+    // A failed particle or a collapsed step (the host reports both): nothing after it may change
+    // the state the host stops at.
+    if (b != NO_PARTICLE || next < dt_floor) *halt = HALT_BAD;
+    else if (!(t < clock[3] - 1e-12)) *halt = HALT_EVENT;
+}
