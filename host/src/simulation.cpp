@@ -65,9 +65,11 @@ BalanceMode balance_mode_from_name(const std::string& name) {
     throw Error("unknown balance mode '" + name + "' (use dynamic, static or off)");
 }
 
-Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::make_unique<Impl>(scene, options)) {
+Simulation::Simulation(const Scene& scene, const Options& options) : Simulation(scene, scene.build_particles(), options) {}
+
+Simulation::Simulation(const Scene& scene, const Particles& p, const Options& options)
+    : impl_(std::make_unique<Impl>(scene, options)) {
     auto& m = *impl_;
-    const Particles p = scene.build_particles();
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices,
                                     cl_rt::OpenOptions{options.profile});
     std::vector<cl_rt::Device*> devs;
