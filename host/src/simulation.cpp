@@ -66,9 +66,11 @@ BalanceMode balance_mode_from_name(const std::string& name) {
     throw Error("unknown balance mode '" + name + "' (use dynamic, static or off)");
 }
 
-Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::make_unique<Impl>(scene, options)) {
+Simulation::Simulation(const Scene& scene, const Options& options) : Simulation(scene, scene.build_particles(), options) {}
+
+Simulation::Simulation(const Scene& scene, const Particles& p, const Options& options)
+    : impl_(std::make_unique<Impl>(scene, options)) {
     auto& m = *impl_;
-    const Particles p = scene.build_particles();
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
     std::vector<cl_rt::Device*> devs;

@@ -118,6 +118,9 @@ struct MemoryReport {
 class Simulation {
 public:
     Simulation(const Scene& scene, const Options& options = {});
+    // The scene's physics and domain with these particles instead of the scene's own (a frame read
+    // back from disk, say); ids must be unique.
+    Simulation(const Scene& scene, const Particles& particles, const Options& options = {});
     ~Simulation();
     Simulation(const Simulation&) = delete;
     Simulation& operator=(const Simulation&) = delete;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -15,6 +16,7 @@ namespace {
 constexpr std::uint32_t kCubes = 8;            // cubes per block edge
 constexpr std::uint32_t kSamples = kCubes + 1;  // samples per block edge (faces shared with neighbours)
 constexpr double kFull = 0.9;                   // a block this full of fluid, with full neighbours, is inside
+constexpr std::size_t kBatch = 2048;            // blocks sampled and meshed at once (1.5 M samples)
 
 struct Lattice {
     std::array<double, 3> origin{};
@@ -122,9 +124,16 @@ TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid
     std::unordered_map<std::uint64_t, std::uint32_t> vertex_of_edge;
     const std::uint64_t lattice_x = L.blocks[0] * kCubes + 1, lattice_y = L.blocks[1] * kCubes + 1;
     const std::size_t per_block = std::size_t{kSamples} * kSamples * kSamples;
+    std::vector<std::unique_ptr<MarchingCubes>> mc(slabs.size());
+    for (std::size_t d = 0; d < slabs.size(); ++d)
+        if (!per_slab[d].empty()) mc[d] = std::make_unique<MarchingCubes>(*slabs[d].device);
     for (std::size_t d = 0; d < slabs.size(); ++d) {
-        const auto& blocks = per_slab[d];
-        if (blocks.empty()) continue;
+        // In batches of blocks, so that the samples' buffers (host and device) stay bounded
+        // whatever the size of the surface.
+        const auto& all = per_slab[d];
+        for (std::size_t first = 0; first < all.size(); first += kBatch) {
+        const std::vector<std::uint64_t> blocks(all.begin() + static_cast<std::ptrdiff_t>(first),
+                                                all.begin() + static_cast<std::ptrdiff_t>(std::min(all.size(), first + kBatch)));
         std::vector<std::array<double, 3>> points;
         std::vector<std::array<std::int32_t, 3>> block_at;
         points.reserve(blocks.size() * per_block);
@@ -144,9 +153,8 @@ TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid
         auto& dev = *slabs[d].device;
         auto buf = dev.alloc(field.size() * sizeof(float), "surface samples");
         dev.write(buf, field.data(), field.size());
-        MarchingCubes mc(dev);
         const BlockMeshes part =
-            mc.run_blocks(buf, {kSamples, kSamples, kSamples}, L.origin, L.spacing, block_at, static_cast<float>(options.iso));
+            mc[d]->run_blocks(buf, {kSamples, kSamples, kSamples}, L.origin, L.spacing, block_at, static_cast<float>(options.iso));
         std::vector<std::uint32_t> global(part.mesh.positions.size());
         for (std::size_t v = 0; v < global.size(); ++v) {
             const std::uint32_t e = part.edge_of_vertex[v];
@@ -165,6 +173,7 @@ TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid
             global[v] = it->second;
         }
         for (const auto& t : part.mesh.triangles) mesh.triangles.push_back({global[t[0]], global[t[1]], global[t[2]]});
+        }
     }
     return mesh;
 }

@@ -1,0 +1,55 @@
+#include "surface_command.hpp"
+
+#include "surface_output.hpp"
+
+#include <clsph/error.hpp>
+#include <clsph/io.hpp>
+#include <clsph/scene.hpp>
+#include <clsph/simulation.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace clsph::app {
+
+int surface_command(const SurfaceArgs& args) {
+    namespace fs = std::filesystem;
+    const std::string record = args.dir + "/run.json";
+    std::ifstream in(record);
+    if (!in) throw Error("clsph surface: cannot read " + record + " (is " + args.dir + " the output directory of clsph run?)");
+    nlohmann::json run;
+    try {
+        in >> run;
+    } catch (const std::exception& e) {
+        throw Error(record + ": not valid JSON (" + e.what() + ")");
+    }
+    if (!run.contains("scene") || !run["scene"].is_object()) throw Error(record + ": has no \"scene\" object");
+    const Scene scene = Scene::from_json_text(run["scene"].dump(), record + ": scene");
+    std::string pvd;
+    for (const auto& e : fs::directory_iterator(args.dir))
+        if (e.path().extension() == ".pvd" && e.path().filename() != "surface.pvd") pvd = e.path().string();
+    if (pvd.empty()) throw Error("clsph surface: no frame collection (.pvd) in " + args.dir);
+    const auto frames = read_pvd(pvd);
+    if (frames.empty()) throw Error(pvd + ": lists no frame");
+    SurfaceOptions so;
+    so.spacing = args.spacing;
+    SurfaceOutput out(args.dir, 0, args.ply, so);
+    Options opts;
+    opts.devices = args.devices;
+    for (const auto& f : frames) {
+        const Particles p = read_vtu(args.dir + "/" + f.file);
+        Simulation sim(scene, p, opts);
+        const TriangleMesh mesh = sim.surface(so);
+        out.write(f.time, mesh);
+        std::cout << "t = " << f.time << " s: " << mesh.triangles.size() << " triangles\n";
+    }
+    std::cout << "clsph surface: " << out.written() << " surfaces in " << args.dir << "; open " << out.collection_path()
+              << " in ParaView\n";
+    return 0;
+}
+
+}  // namespace clsph::app

@@ -1,0 +1,17 @@
+// clsph surface OUTDIR: the free surface of every frame of a finished run, afterwards, on any
+// device: the scene from OUTDIR/run.json, the particles from each frame listed in the run's .pvd.
+#pragma once
+#include <string>
+
+namespace clsph::app {
+
+struct SurfaceArgs {
+    std::string dir;
+    std::string devices;
+    double spacing = 0;  // m; 0: dp / 2
+    bool ply = false;
+};
+
+int surface_command(const SurfaceArgs& args);
+
+}  // namespace clsph::app

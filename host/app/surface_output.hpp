@@ -1,0 +1,35 @@
+// Free-surface meshes during a run (clsph run --surface): at frames, when a surface is due, the
+// mesh (Simulation::surface) as DIR/surface_NNNNN.vtp (and .ply with --surface-ply), listed with
+// its time in DIR/surface.pvd, which ParaView opens as a time series beside the particles'.
+#pragma once
+#include <clsph/io.hpp>
+#include <clsph/mesh.hpp>
+#include <clsph/simulation.hpp>
+
+#include <string>
+
+namespace clsph::app {
+
+class SurfaceOutput {
+public:
+    // every: simulated seconds between surfaces (0: at every frame).
+    SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {});
+    // Called at each frame; writes a surface when one is due (the first frame always).
+    void at_frame(Simulation& sim);
+    // Writes the surface of `mesh` at `time` (clsph surface: a frame read back).
+    void write(double time, const TriangleMesh& mesh);
+    std::size_t written() const { return count_; }
+    const std::string& collection_path() const { return pvd_.path(); }
+    const SurfaceOptions& options() const { return options_; }
+
+private:
+    std::string dir_;
+    double every_;
+    bool ply_;
+    SurfaceOptions options_;
+    PvdWriter pvd_;
+    std::size_t count_ = 0;
+    double next_ = 0;
+};
+
+}  // namespace clsph::app
