@@ -2,9 +2,12 @@
 //   clsph devices [--devices SPEC]
 //   clsph run SCENE [--devices SPEC] [--until T] [--steps N] [--out DIR] [--every DT] [--csv]
 //                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
-//                   [--balance dynamic|static|off] [--balance-log FILE]
+//                   [--balance dynamic|static|off] [--balance-log FILE] [--surface] [--surface-every DT]
+//                   [--surface-ply]
+//   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 #include "run_args.hpp"
 #include "run_command.hpp"
+#include "surface_command.hpp"
 
 #include <CLI/CLI.hpp>
 #include <clsph/devices.hpp>
@@ -62,6 +65,11 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
                    "(default: the scene's run.interaction)")
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse"}))
         ->type_name("NAME");
+    run.add_flag("--surface", a.surface, "write the free surface at every frame: surface_NNNNN.vtp, listed in surface.pvd");
+    run.add_option("--surface-every", a.surface_every, "the free surface every DT simulated seconds, at the frames (implies --surface)")
+        ->check(CLI::PositiveNumber)
+        ->type_name("DT");
+    run.add_flag("--surface-ply", a.surface_ply, "also write each surface as binary PLY (implies --surface)");
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))
         ->capture_default_str();
@@ -80,6 +88,13 @@ int main(int argc, char** argv) {
     std::string spec;
     devices->add_option("--devices", spec, "show which devices a selection spec picks (all|gpu|cpu|0,2|platform:NAME)");
 
+    auto* surface = app.add_subcommand("surface", "mesh the free surface of every frame of a finished run (surface_NNNNN.vtp, surface.pvd)");
+    clsph::app::SurfaceArgs surface_args;
+    surface->add_option("dir", surface_args.dir, "the output directory of a clsph run")->required();
+    surface->add_option("--devices", surface_args.devices, "devices to use (as clsph run --devices)");
+    surface->add_option("--spacing", surface_args.spacing, "sample spacing in m (default: dp/2)")->check(CLI::PositiveNumber);
+    surface->add_flag("--ply", surface_args.ply, "also write each surface as binary PLY");
+
     auto* run = app.add_subcommand("run", "run a scene; frames, stats, probes and run.json go to the output directory");
     clsph::app::RunArgs run_args;
     add_run_options(*run, run_args);
@@ -96,6 +111,7 @@ int main(int argc, char** argv) {
     try {
         if (steps_text) run_args.steps = parse_steps(*steps_text);
         if (*devices) return list_devices_command(spec);
+        if (*surface) return clsph::app::surface_command(surface_args);
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);
             return clsph::app::run_command(run_args);

@@ -9,6 +9,7 @@
 #include "report.hpp"
 #include "run_plan.hpp"
 #include "run_record.hpp"
+#include "surface_output.hpp"
 
 #include <clsph/error.hpp>
 #include <clsph/io.hpp>
@@ -22,6 +23,7 @@
 #include <sstream>
 #include <cmath>
 #include <iostream>
+#include <memory>
 
 namespace clsph::app {
 namespace {
@@ -54,6 +56,9 @@ public:
                               interaction_forms(sim), sim.scene().to_json()},
                   sim.scene().probes),
           frames_(plan.out_dir, plan.collection_name, args.csv),
+          surfaces_(args.surface || args.surface_every || args.surface_ply
+                        ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply)
+                        : nullptr),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {}
 
     int run(double setup_seconds) {
@@ -180,6 +185,10 @@ private:
     void submit_frame() {
         Particles p = after_step("downloading a frame", [&] { return sim_.particles(); });
         frames_.submit(sim_.time(), std::move(p));
+        if (surfaces_) after_step("extracting the free surface", [&] {
+                surfaces_->at_frame(sim_);
+                return 0;
+            });
         record_.flush();
         arm_abort_record(record_.json_path(), record_.abort_text(sim_.info()));
     }
@@ -202,6 +211,7 @@ private:
     const RunPlan& plan_;
     RunRecord record_;
     FrameWriter frames_;
+    std::unique_ptr<SurfaceOutput> surfaces_;  // --surface
     Progress progress_;
     RunTotals totals_;
 };

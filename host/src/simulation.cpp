@@ -191,7 +191,9 @@ std::vector<DeviceShare> Simulation::shares() const {
 }
 
 TriangleMesh Simulation::surface(const SurfaceOptions& options) {
-    return surface::extract_surface(*impl_->driver, impl_->grid, impl_->scene, options);
+    auto& m = *impl_;
+    return cl_rt::guarded("extracting the free surface", "",
+                          [&] { return surface::extract_surface(*m.driver, m.grid, m.scene, options); });
 }
 
 Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const {

@@ -124,6 +124,11 @@ TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid
     std::unordered_map<std::uint64_t, std::uint32_t> vertex_of_edge;
     const std::uint64_t lattice_x = L.blocks[0] * kCubes + 1, lattice_y = L.blocks[1] * kCubes + 1;
     const std::size_t per_block = std::size_t{kSamples} * kSamples * kSamples;
+    std::array<float, 3> period_end{};  // the lattice's first plane at or past a periodic axis' max face
+    for (std::size_t a = 0; a < 3; ++a) {
+        const double extent = scene.domain.max[a] - scene.domain.min[a];
+        period_end[a] = static_cast<float>(L.origin[a] + L.spacing * std::ceil(extent / L.spacing - 1e-9));
+    }
     std::vector<std::unique_ptr<MarchingCubes>> mc(slabs.size());
     for (std::size_t d = 0; d < slabs.size(); ++d)
         if (!per_slab[d].empty()) mc[d] = std::make_unique<MarchingCubes>(*slabs[d].device);
@@ -172,7 +177,18 @@ TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid
             }
             global[v] = it->second;
         }
-        for (const auto& t : part.mesh.triangles) mesh.triangles.push_back({global[t[0]], global[t[1]], global[t[2]]});
+        for (const auto& t : part.mesh.triangles) {
+            // Along a periodic axis the samples beyond the domain's max face are the wrapped
+            // ones: one period of the surface is kept, open at the periodic faces.
+            bool beyond = false;
+            for (int a = 0; a < 3; ++a) {
+                if (!scene.domain.periodic[static_cast<std::size_t>(a)]) continue;
+                float lowest = mesh.positions[global[t[0]]][static_cast<std::size_t>(a)];
+                for (int v = 1; v < 3; ++v) lowest = std::min(lowest, mesh.positions[global[t[static_cast<std::size_t>(v)]]][static_cast<std::size_t>(a)]);
+                beyond = beyond || lowest >= period_end[static_cast<std::size_t>(a)];
+            }
+            if (!beyond) mesh.triangles.push_back({global[t[0]], global[t[1]], global[t[2]]});
+        }
         }
     }
     return mesh;
