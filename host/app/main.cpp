@@ -70,6 +70,9 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
         ->check(CLI::PositiveNumber)
         ->type_name("DT");
     run.add_flag("--surface-ply", a.surface_ply, "also write each surface as binary PLY (implies --surface)");
+    run.add_option("--surface-spacing", a.surface_spacing, "the surface's sample spacing in m (default: dp/2; implies --surface)")
+        ->check(CLI::PositiveNumber)
+        ->type_name("M");
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))
         ->capture_default_str();

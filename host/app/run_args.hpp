@@ -26,6 +26,7 @@ struct RunArgs {
     bool surface = false;                     // --surface: the free surface at frames (surface_*.vtp)
     std::optional<double> surface_every;      // --surface-every DT (implies --surface); default: every frame
     bool surface_ply = false;                 // --surface-ply: also .ply
+    double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
     std::vector<std::string> command_line;    // argv, for run.json
 };
 

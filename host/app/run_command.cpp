@@ -56,8 +56,9 @@ public:
                               interaction_forms(sim), sim.scene().to_json()},
                   sim.scene().probes),
           frames_(plan.out_dir, plan.collection_name, args.csv),
-          surfaces_(args.surface || args.surface_every || args.surface_ply
-                        ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply)
+          surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0
+                        ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
+                                                          SurfaceOptions{args.surface_spacing, 0.5})
                         : nullptr),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {}
 
