@@ -6,6 +6,7 @@
 // before t, where it cannot be sure the next step is still needed. Probe steps sample the probes
 // in the queue (enqueue_probe), so the callback finds them without a wait.
 #include "simulation_impl.hpp"
+#include "cl/errors.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -123,7 +124,8 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
     for (;;) {
         while (!failed && may_enqueue(t, last)) {
             try {
-                enqueue_ahead();
+                // What the bindings throw (a cl::Error from setArg, say) is a DeviceError too.
+                cl_rt::guarded("taking a step", "", [&] { enqueue_ahead(); });
             } catch (const DeviceError& e) {
                 failed = true;  // reported once the steps before it are taken, as the synchronous path does
                 failure = e;
@@ -132,7 +134,7 @@ void Simulation::Impl::run_ahead(double t, const std::function<void(const StepIn
         if (in_flight.empty()) break;
         device::StepRecord r;
         try {
-            r = wait_oldest();
+            r = cl_rt::guarded("waiting for a step", "", [&] { return wait_oldest(); });
         } catch (const DeviceError& e) {
             in_flight.clear();  // the device's state is lost: the step after the last one taken failed
             device_failed(e, std::min(dt_next, std::max(t - info.time, 1e-12)));
