@@ -63,6 +63,8 @@ class Balancer {
   Decision step(const std::vector<DeviceSample>& samples, const ColumnProfile& profile);
 
   const std::vector<std::size_t>& cuts() const { return cuts_; }
+  // The cuts a checkpoint was written with, in place of initial_cuts' (a restart goes on from them).
+  void restore_cuts(const std::vector<std::size_t>& cuts) { cuts_ = cuts; }
   const TimeModel& model(std::size_t device) const { return models_.at(device); }
   const Options& options() const { return options_; }
 

@@ -8,7 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <algorithm>
+#include <cstring>
 #include <sstream>
+#include <unordered_map>
+
+#include "clsph/version.hpp"
 
 namespace clsph {
 
@@ -70,7 +75,37 @@ Simulation::Simulation(const Scene& scene, const Options& options) : Simulation(
 
 Simulation::Simulation(const Scene& scene, const Particles& p, const Options& options)
     : impl_(std::make_unique<Impl>(scene, options)) {
-    auto& m = *impl_;
+    impl_->init(p, nullptr);
+}
+
+namespace {
+// A checkpoint's particles as the host holds them (the census and the split read positions).
+Particles particles_of(const Checkpoint& c, const device::Grid& grid) {
+    Particles p;
+    p.resize(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        std::uint32_t key;
+        std::memcpy(&key, &c.pos[4 * i + 3], sizeof key);
+        p.position[i] = grid.position(key, {c.pos[4 * i], c.pos[4 * i + 1], c.pos[4 * i + 2]});
+        p.velocity[i] = {c.velrho[4 * i], c.velrho[4 * i + 1], c.velrho[4 * i + 2]};
+        p.density[i] = c.velrho[4 * i + 3];
+        p.pressure[i] = 0.0f;
+        p.id[i] = c.id[i] & CLSPH_ID_MASK;
+        p.type[i] = static_cast<ParticleType>(c.id[i] >> CLSPH_TYPE_SHIFT);
+    }
+    return p;
+}
+}  // namespace
+
+Simulation::Simulation(const Scene& scene, const Checkpoint& c, const Options& options)
+    : impl_(std::make_unique<Impl>(scene, options)) {
+    if (c.scene_hash != scene_hash(scene))
+        throw CheckpointError("(in memory)", "written for another scene (its scene hash differs)");
+    impl_->init(particles_of(c, impl_->grid), &c);
+}
+
+void Simulation::Impl::init(const Particles& p, const Checkpoint* c) {
+    auto& m = *this;
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
     std::vector<cl_rt::Device*> devs;
@@ -92,6 +127,7 @@ Simulation::Simulation(const Scene& scene, const Particles& p, const Options& op
                 : options.wait == WaitMode::block ? Mode::block
                                                   : Mode::callbacks;
     if (options.seams) dopt.seams = *options.seams;
+    if (c && c->counts.size() == m.devices.size()) dopt.cuts.assign(c->cuts.begin(), c->cuts.end());
     // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
     const auto k = cl_rt::guarded("setting up the devices", "", [&] {
         m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
@@ -107,8 +143,107 @@ Simulation::Simulation(const Scene& scene, const Particles& p, const Options& op
     m.dt_next = m.next_dt(k.kick);
     m.last_good = p;
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
+    if (c) m.restore(*c);
     m.setup_ahead();
 }
+
+void Simulation::Impl::restore(const Checkpoint& c) {
+    // The first pass sorted the decoded particles; the checkpoint's arrays go over the owned ones.
+    // Written on this device count with the same split, each slab holds its block of the file in
+    // its order: the arrays go in as they are. Otherwise by id (the order is the new split's).
+    auto& slabs = driver->slabs();
+    bool same = c.counts.size() == slabs.size();
+    for (std::size_t d = 0; same && d < slabs.size(); ++d) same = slabs[d].store->ranges.owned == c.counts[d];
+    std::unordered_map<std::uint32_t, std::size_t> index;
+    if (!same)
+        for (std::size_t i = 0; i < c.size(); ++i) index[c.id[i]] = i;
+    std::size_t from = 0;
+    cl_rt::guarded("restoring the checkpoint", "", [&] {
+        for (auto& s : slabs) {
+            auto& d = *s.device;
+            auto& st = *s.store;
+            const std::size_t n = st.ranges.owned, first = st.ranges.first_owned();
+            if (n == 0) continue;
+            std::vector<float> pos(4 * n), velrho(4 * n), accel(4 * n);
+            if (same) {
+                std::copy_n(c.pos.begin() + 4 * from, 4 * n, pos.begin());
+                std::copy_n(c.velrho.begin() + 4 * from, 4 * n, velrho.begin());
+                std::copy_n(c.accel.begin() + 4 * from, 4 * n, accel.begin());
+                from += n;
+            } else {
+                std::vector<std::uint32_t> ids(n);
+                d.read(st.id, ids.data(), n, first);
+                for (std::size_t i = 0; i < n; ++i) {
+                    const auto it = index.find(ids[i]);
+                    if (it == index.end()) throw Error("restoring a checkpoint: a particle id not in it");
+                    const std::size_t j = it->second;
+                    // The position as this device's first pass encoded it (the key decides the
+                    // order the slab sorted); velocity, density and the last forces as saved.
+                    std::copy_n(c.velrho.begin() + 4 * j, 4, velrho.begin() + 4 * i);
+                    std::copy_n(c.accel.begin() + 4 * j, 4, accel.begin() + 4 * i);
+                }
+                d.read(st.pos, pos.data(), 4 * n, 4 * first);
+            }
+            d.write(st.pos, pos.data(), 4 * n, 4 * first);
+            d.write(st.velrho, velrho.data(), 4 * n, 4 * first);
+            d.write(st.accel, accel.data(), 4 * n, 4 * first);
+            d.finish();
+        }
+        return 0;
+    });
+    info.step = c.step;
+    info.time = c.time;
+    info.dt = c.dt;
+    info.removed = c.removed;
+    info.particles = driver->owned();
+    info.fluid = c.fluid;
+    info.kinetic_energy = c.kinetic_energy;
+    info.max_speed = c.max_speed;
+    info.cells = c.cells;
+    dt_next = c.dt_next;
+    last_good_time = c.time;
+}
+
+Checkpoint Simulation::checkpoint() {
+    auto& m = *impl_;
+    if (!m.in_flight.empty())
+        throw Error("checkpoint(): steps run ahead of the host; save after run_until returns, not in the step callback");
+    m.drop_left();
+    Checkpoint c;
+    c.clsph_version = version();
+    c.scene_hash = scene_hash(m.scene);
+    c.step = m.info.step;
+    c.time = m.info.time;
+    c.dt = m.info.dt;
+    c.dt_next = m.dt_next;
+    c.removed = m.info.removed;
+    c.fluid = m.info.fluid;
+    c.cells = m.info.cells;
+    c.kinetic_energy = m.info.kinetic_energy;
+    c.max_speed = m.info.max_speed;
+    for (auto cut : m.driver->cuts()) c.cuts.push_back(cut);
+    cl_rt::guarded("reading the checkpoint", "", [&] {
+        for (auto& s : m.driver->slabs()) {
+            auto& d = *s.device;
+            auto& st = *s.store;
+            const std::size_t n = st.ranges.owned, first = st.ranges.first_owned(), at = c.size();
+            c.counts.push_back(n);
+            c.pos.resize(4 * (at + n));
+            c.velrho.resize(4 * (at + n));
+            c.accel.resize(4 * (at + n));
+            c.id.resize(at + n);
+            if (n == 0) continue;
+            d.read(st.pos, c.pos.data() + 4 * at, 4 * n, 4 * first);
+            d.read(st.velrho, c.velrho.data() + 4 * at, 4 * n, 4 * first);
+            d.read(st.accel, c.accel.data() + 4 * at, 4 * n, 4 * first);
+            d.read(st.id, c.id.data() + at, n, first);
+        }
+        return 0;
+    });
+    return c;
+}
+
+void Simulation::save(const std::string& path) { write_checkpoint(path, checkpoint()); }
 
 Simulation::~Simulation() = default;
 

@@ -5,6 +5,7 @@
 
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "clsph/checkpoint.hpp"
 #include "clsph/error.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
@@ -52,6 +53,11 @@ struct Simulation::Impl {
         const double dt_sound = h / (sp.c0 + vmax);
         return scene.physics.cfl * std::min(dt_force, dt_sound);
     }
+
+    // The constructors: the devices, the driver and the first force pass; with a checkpoint, its
+    // arrays and counters in place of what the first pass left.
+    void init(const Particles& p, const Checkpoint* c);
+    void restore(const Checkpoint& c);
 
     // The synchronous path's failure: the particle read from the device now.
     [[noreturn]] void fail(const multi::StepOutcome& k);

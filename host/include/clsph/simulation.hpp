@@ -16,6 +16,7 @@ namespace clsph {
 namespace testing {
 struct Seams;
 }
+struct Checkpoint;  // clsph/checkpoint.hpp
 
 // How the host waits for the devices' work (several devices): sleeping on event callbacks where
 // the driver delivers them on time and polling the events' status elsewhere (the default),
@@ -121,7 +122,16 @@ public:
     // The scene's physics and domain with these particles instead of the scene's own (a frame read
     // back from disk, say); ids must be unique.
     Simulation(const Scene& scene, const Particles& particles, const Options& options = {});
+    // Goes on from a checkpoint (read_checkpoint, clsph/checkpoint.hpp) of this scene: on the
+    // device set it was written on (same count, same implementation), the steps that follow are
+    // bitwise those the run would have taken; on another device set, the same particles with
+    // positions within round-off. Throws CheckpointError when it was written for another scene.
+    Simulation(const Scene& scene, const Checkpoint& checkpoint, const Options& options = {});
     ~Simulation();
+    // The state now as a checkpoint, and written to `path` (docs/checkpoint.md; through a
+    // temporary name and a rename). Not from inside the step callback while steps run ahead.
+    Checkpoint checkpoint();
+    void save(const std::string& path);
     Simulation(const Simulation&) = delete;
     Simulation& operator=(const Simulation&) = delete;
 

@@ -31,8 +31,15 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
     if (D > 1 && bo.mode == balance::Mode::dynamic) calibrate(slabs_, partition_, p, census, *balancer_);
-    partition_.set_cuts(slabs_, D == 1 ? std::vector<std::size_t>{0, partition_.columns()}
-                                       : balancer_->initial_cuts(census.profile));
+    std::vector<std::size_t> first{0, partition_.columns()};
+    if (D > 1) {
+        first = balancer_->initial_cuts(census.profile);
+        if (options.cuts.size() == D + 1 && options.cuts.back() == partition_.columns()) {
+            first = options.cuts;  // a checkpoint's: the balancer goes on from them
+            balancer_->restore_cuts(first);
+        }
+    }
+    partition_.set_cuts(slabs_, first);
     const auto parts = partition_.split(p, census, slabs_);
     for (std::size_t d = 0; d < D; ++d) slabs_[d].store->upload(parts[d]);
     exchange_ = std::make_unique<Exchange>(partition_, slabs_, [this](const PerDevice& w) { for_each_device(w); },

@@ -35,6 +35,8 @@ struct DriverOptions {
     double cell_headroom = 0.25;  // spare capacity of the cell tables
     cl_rt::EventSet::Mode wait = cl_rt::EventSet::Mode::callbacks;
     testing::Seams seams;
+    // Non-empty (devices + 1 columns): the first cuts (a checkpoint's), instead of the balancer's.
+    std::vector<std::size_t> cuts;
 };
 
 struct StepOutcome {
