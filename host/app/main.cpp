@@ -3,7 +3,7 @@
 //   clsph run SCENE [--devices SPEC] [--until T] [--steps N] [--out DIR] [--every DT] [--csv]
 //                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
 //                   [--balance dynamic|static|off] [--balance-log FILE] [--surface] [--surface-every DT]
-//                   [--surface-ply]
+//                   [--surface-ply] [--checkpoint-every DT] [--checkpoint-keep K]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 #include "run_args.hpp"
 #include "run_command.hpp"
@@ -76,6 +76,14 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))
         ->capture_default_str();
+    run.add_option("--checkpoint-every", a.checkpoint_every,
+                   "write a checkpoint (checkpoint_NNNNN.clsph, docs/checkpoint.md) at the first frame after every DT "
+                   "simulated seconds; one is written whenever the run ends")
+        ->check(CLI::PositiveNumber)
+        ->type_name("DT");
+    run.add_option("--checkpoint-keep", a.checkpoint_keep, "the last K checkpoints are kept (default 3)")
+        ->check(CLI::PositiveNumber)
+        ->type_name("K");
     run.add_option("--balance-log", a.balance_log, "several devices: write the balancer's per-step CSV to FILE (docs/balance.md)")
         ->type_name("FILE");
 }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "output_dir.hpp"
 
 #include <clsph/error.hpp>
@@ -21,6 +22,7 @@ bool written_by_a_run(const std::string& name) {
     if (ends_with(name, ".tmp")) return true;  // a writer cut short mid-rename
     if (starts_with(name, "frame_") && (ends_with(name, ".vtu") || ends_with(name, ".csv"))) return true;
     if (starts_with(name, "probe_") && ends_with(name, ".csv")) return true;
+    if (starts_with(name, "checkpoint_") && ends_with(name, ".clsph")) return true;
     if (starts_with(name, "surge_front.")) return true;
     if (starts_with(name, "surface_") && (ends_with(name, ".vtp") || ends_with(name, ".ply"))) return true;
     return ends_with(name, ".pvd") || name == "stats.csv" || name == "run.json";
@@ -56,6 +58,20 @@ void prepare_output_dir(const std::string& dir, bool force) {
     if (ec) fail("cannot list output directory '" + dir + "'", ec);
     for (const auto& path : stale)
         if (!fs::remove(path, ec) && ec) fail("cannot remove '" + path.string() + "'", ec);
+}
+
+std::vector<std::pair<std::uint64_t, std::string>> list_checkpoints(const std::string& dir) {
+    std::vector<std::pair<std::uint64_t, std::string>> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (!starts_with(name, "checkpoint_") || !ends_with(name, ".clsph")) continue;
+        const std::string digits = name.substr(11, name.size() - 11 - 6);
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        out.emplace_back(std::stoull(digits), e.path().string());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 }  // namespace clsph::app

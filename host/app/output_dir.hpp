@@ -2,6 +2,9 @@
 // once the scene has loaded and the devices are set up, so a bad input never leaves a directory.
 #pragma once
 #include <string>
+#include <vector>
+#include <cstdint>
+#include <utility>
 
 namespace clsph::app {
 
@@ -12,5 +15,8 @@ void check_output_dir(const std::string& dir, bool force);
 // Creates `dir` (and its parents); with `force`, first removes the files a run writes (frames,
 // .pvd, stats, probes, run.json, the surge plot, left-over .tmp files) and leaves anything else.
 void prepare_output_dir(const std::string& dir, bool force);
+
+// The checkpoints in `dir` (checkpoint_<step>.clsph) as (step, path), oldest first.
+std::vector<std::pair<std::uint64_t, std::string>> list_checkpoints(const std::string& dir);
 
 }  // namespace clsph::app

@@ -27,6 +27,8 @@ struct RunArgs {
     std::optional<double> surface_every;      // --surface-every DT (implies --surface); default: every frame
     bool surface_ply = false;                 // --surface-ply: also .ply
     double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
+    std::optional<double> checkpoint_every;   // --checkpoint-every DT: checkpoint_NNNNN.clsph at the first frame past each DT
+    std::size_t checkpoint_keep = 3;          // --checkpoint-keep K: the last K checkpoints kept
     std::vector<std::string> command_line;    // argv, for run.json
 };
 

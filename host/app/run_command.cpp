@@ -19,6 +19,7 @@
 #include <unistd.h>  // isatty
 
 #include <chrono>
+#include <cstdio>
 #include <csignal>
 #include <sstream>
 #include <cmath>
@@ -94,6 +95,11 @@ public:
                     if (sim_.time() >= frame_time - eps) {
                         submit_frame();
                         ++next_frame;
+                        if (args_.checkpoint_every && sim_.time() >= next_checkpoint_ - eps) {
+                            write_checkpoint_now();
+                            next_checkpoint_ = (std::floor(sim_.time() / *args_.checkpoint_every + 1e-9) + 1) *
+                                               *args_.checkpoint_every;
+                        }
                     }
                 }
             } catch (const StopRun& stop) {
@@ -105,6 +111,9 @@ public:
             }
             // A final frame where the run stopped off the frame grid (Ctrl-C, SIGTERM, --steps, --until).
             if (frames_.last_time() < sim_.time() - eps) submit_frame();
+            // Whenever the run ends whole (completed, --steps, --until, Ctrl-C, SIGTERM): a
+            // checkpoint to resume from (clsph resume).
+            if (last_checkpoint_step_ != sim_.info().step) write_checkpoint_now();
         } catch (const SimulationError& e) {
             progress_.clear();
             totals_.outcome = "failed";
@@ -194,6 +203,20 @@ private:
         arm_abort_record(record_.json_path(), record_.abort_text(sim_.info()));
     }
 
+    // checkpoint_<step>.clsph (through a .tmp and a rename), the oldest beyond --checkpoint-keep removed.
+    void write_checkpoint_now() {
+        char name[64];
+        std::snprintf(name, sizeof name, "checkpoint_%05llu.clsph", static_cast<unsigned long long>(sim_.info().step));
+        const std::string path = plan_.out_dir + "/" + name;
+        after_step("writing a checkpoint", [&] {
+            sim_.save(path);
+            return 0;
+        });
+        last_checkpoint_step_ = sim_.info().step;
+        const auto all = list_checkpoints(plan_.out_dir);
+        for (std::size_t i = 0; i + args_.checkpoint_keep < all.size(); ++i) std::remove(all[i].second.c_str());
+    }
+
     void sample_probes() {
         if (sim_.scene().probes.empty()) return;
         record_.probes(after_step("sampling the probes", [&] { return sim_.sample_probes(); }));
@@ -215,6 +238,8 @@ private:
     std::unique_ptr<SurfaceOutput> surfaces_;  // --surface
     Progress progress_;
     RunTotals totals_;
+    double next_checkpoint_ = args_.checkpoint_every ? *args_.checkpoint_every : 0.0;
+    std::uint64_t last_checkpoint_step_ = ~std::uint64_t{0};
 };
 
 }  // namespace
