@@ -1,5 +1,7 @@
 #include "frame_writer.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -22,6 +24,19 @@ FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, bo
       thread_([this] { loop(); }) {}
 
 FrameWriter::~FrameWriter() { stop(); }
+
+void FrameWriter::resume_at(const std::vector<PvdEntry>& before, double time) {
+    // Before any submit(): the writer thread has not touched the collection yet.
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double eps = 1e-9 * std::max(1.0, std::abs(time));
+    for (const auto& e : before) {
+        if (e.time > time + eps) break;
+        pvd_.add(e.time, e.file);
+        ++submitted_;
+        ++written_;
+        last_time_ = e.time;
+    }
+}
 
 void FrameWriter::submit(double time, Particles particles) {
     std::unique_lock<std::mutex> lock(mutex_);

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace clsph::app {
 
@@ -20,6 +21,9 @@ class FrameWriter {
 public:
     // Frames go to `dir`/frame_NNNNN.vtu (and .csv); the collection to `dir`/`collection_name`.
     FrameWriter(std::string dir, const std::string& collection_name, bool csv, std::size_t max_in_flight = 2);
+    // clsph resume: the collection's frames up to `time` kept (the next frame is numbered after
+    // them), the later ones dropped from it (their files are written over).
+    void resume_at(const std::vector<PvdEntry>& before, double time);
     ~FrameWriter();  // stops the thread; frames still queued are written first
     FrameWriter(const FrameWriter&) = delete;
     FrameWriter& operator=(const FrameWriter&) = delete;

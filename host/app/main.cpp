@@ -4,6 +4,7 @@
 //                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
 //                   [--balance dynamic|static|off] [--balance-log FILE] [--surface] [--surface-every DT]
 //                   [--surface-ply] [--checkpoint-every DT] [--checkpoint-keep K]
+//   clsph resume DIR [--until T] [--devices SPEC] [--steps N]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 #include "run_args.hpp"
 #include "run_command.hpp"
@@ -14,7 +15,10 @@
 #include <clsph/error.hpp>
 #include <clsph/version.hpp>
 
+#include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -88,6 +92,61 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
         ->type_name("FILE");
 }
 
+// clsph resume DIR: the command line in DIR/run.json with --out DIR and the resume's own
+// --until, --devices and --steps in place of the original's, parsed as `clsph run` parses it.
+clsph::app::RunArgs resume_args(const std::string& dir, const std::optional<double>& until, const std::string& devices,
+                                const std::optional<std::string>& steps, const std::vector<std::string>& own_argv) {
+    std::ifstream f(dir + "/run.json");
+    if (!f) throw clsph::Error("clsph resume: no run.json in " + dir + " (not the output directory of a clsph run)");
+    std::vector<std::string> original;
+    try {
+        original = nlohmann::json::parse(f).at("command_line").get<std::vector<std::string>>();
+    } catch (const std::exception& e) {
+        throw clsph::Error("clsph resume: cannot read the command line from " + dir + "/run.json: " + e.what());
+    }
+    const auto run_at = std::find(original.begin(), original.end(), "run");
+    if (run_at == original.end()) throw clsph::Error("clsph resume: " + dir + "/run.json records no `clsph run` command line");
+    // Dropped with their values: what the resume sets itself, and what only a fresh start means.
+    std::vector<std::string> with_value = {"--out"};
+    if (until) with_value.push_back("--until");
+    if (!devices.empty()) with_value.push_back("--devices");
+    if (steps) with_value.push_back("--steps");
+    const std::vector<std::string> flags = {"--force", "--dry-run"};
+    std::vector<std::string> argv;
+    for (auto it = run_at + 1; it != original.end(); ++it) {
+        const std::string& a = *it;
+        const std::string name = a.substr(0, a.find('='));
+        if (std::find(flags.begin(), flags.end(), a) != flags.end()) continue;
+        if (std::find(with_value.begin(), with_value.end(), name) != with_value.end()) {
+            if (a.find('=') == std::string::npos && it + 1 != original.end()) ++it;
+            continue;
+        }
+        argv.push_back(a);
+    }
+    if (until) argv.insert(argv.end(), {"--until", std::to_string(*until)});
+    if (!devices.empty()) argv.insert(argv.end(), {"--devices", devices});
+    if (steps) argv.insert(argv.end(), {"--steps", *steps});
+    argv.insert(argv.end(), {"--out", dir});
+    CLI::App app{"clsph resume"};
+    auto* run = app.add_subcommand("run");
+    clsph::app::RunArgs a;
+    steps_text.reset();
+    add_run_options(*run, a);
+    std::vector<std::string> reversed{"run"};
+    reversed.insert(reversed.end(), argv.begin(), argv.end());
+    std::reverse(reversed.begin(), reversed.end());
+    try {
+        app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+        throw clsph::Error(std::string("clsph resume: the recorded command line does not parse: ") + e.what());
+    }
+    if (steps_text) a.steps = parse_steps(*steps_text);
+    a.command_line.assign(original.begin(), original.end());
+    a.resume_dir = dir;
+    a.resume_command_line = own_argv;
+    return a;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,6 +169,15 @@ int main(int argc, char** argv) {
     clsph::app::RunArgs run_args;
     add_run_options(*run, run_args);
 
+    auto* resume = app.add_subcommand("resume", "go on with a run from the last checkpoint in its output directory, in place");
+    std::string resume_dir, resume_devices;
+    std::optional<double> resume_until;
+    std::optional<std::string> resume_steps;
+    resume->add_option("dir", resume_dir, "the output directory of a clsph run with checkpoints")->required();
+    resume->add_option("--until", resume_until, "simulated seconds to run to (default: the run's own)");
+    resume->add_option("--devices", resume_devices, "devices to go on with (default: the run's own)");
+    resume->add_option("--steps", resume_steps, "stop after N more steps")->type_name("N");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -123,6 +191,9 @@ int main(int argc, char** argv) {
         if (steps_text) run_args.steps = parse_steps(*steps_text);
         if (*devices) return list_devices_command(spec);
         if (*surface) return clsph::app::surface_command(surface_args);
+        if (*resume)
+            return clsph::app::run_command(resume_args(resume_dir, resume_until, resume_devices, resume_steps,
+                                                       std::vector<std::string>(argv, argv + argc)));
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);
             return clsph::app::run_command(run_args);

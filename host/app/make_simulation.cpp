@@ -1,5 +1,6 @@
 #include "make_simulation.hpp"
 
+#include <clsph/checkpoint.hpp>
 #include <clsph/error.hpp>
 #include <clsph/testing.hpp>
 
@@ -7,12 +8,12 @@
 
 namespace clsph::app {
 
-std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args) {
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args, const Checkpoint* checkpoint) {
     Options opts;
     opts.devices = args.devices;
     opts.profile = args.profile;
     opts.synchronous = args.synchronous;
-    if (args.steps) opts.step_limit = *args.steps;  // the step ahead stops exactly there
+    if (args.steps) opts.step_limit = *args.steps + (checkpoint ? checkpoint->step : 0);  // the step ahead stops exactly there
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
@@ -24,7 +25,9 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
         seams.faults.push_back(testing::parse_fault(v, "CLSPH_TEST_FAULT"));
         testing::set_seams(opts, std::move(seams));
     }
-    return with_scene_path(args, [&] { return std::make_unique<Simulation>(scene, opts); });
+    return with_scene_path(args, [&] {
+        return checkpoint ? std::make_unique<Simulation>(scene, *checkpoint, opts) : std::make_unique<Simulation>(scene, opts);
+    });
 }
 
 }  // namespace clsph::app

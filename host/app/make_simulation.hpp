@@ -10,9 +10,13 @@
 #include <memory>
 #include <string>
 
+namespace clsph {
+struct Checkpoint;
+}
 namespace clsph::app {
 
-std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args);
+// With a checkpoint: the run goes on from it (clsph resume); --steps counts from its step.
+std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& args, const Checkpoint* checkpoint = nullptr);
 
 // Runs f(); a SceneError whose message does not begin with the scene file gets it in front.
 template <class F>

@@ -30,6 +30,9 @@ struct RunArgs {
     std::optional<double> checkpoint_every;   // --checkpoint-every DT: checkpoint_NNNNN.clsph at the first frame past each DT
     std::size_t checkpoint_keep = 3;          // --checkpoint-keep K: the last K checkpoints kept
     std::vector<std::string> command_line;    // argv, for run.json
+    // clsph resume: the output directory to go on in (frames, stats and probes continue there).
+    std::string resume_dir;
+    std::vector<std::string> resume_command_line;  // the resume's own argv (run.json "resumes")
 };
 
 // The most steps --steps takes (a run of 10^12 steps is years on any machine; more is a typo).

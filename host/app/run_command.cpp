@@ -11,12 +11,18 @@
 #include "run_record.hpp"
 #include "surface_output.hpp"
 
+#include <clsph/checkpoint.hpp>
 #include <clsph/error.hpp>
 #include <clsph/io.hpp>
 #include <clsph/scene_io.hpp>
 #include <clsph/simulation.hpp>
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>  // isatty
+
+#include <ctime>
+#include <fstream>
+#include <iterator>
 
 #include <chrono>
 #include <cstdio>
@@ -37,7 +43,21 @@ std::vector<std::string> interaction_forms(const Simulation& sim) {
 
 using clock = std::chrono::steady_clock;
 
+std::string read_text_file(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw Error("cannot read " + path);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
+
+// clsph resume: where the run goes on from and what the output directory already holds.
+struct ResumeState {
+    ResumePoint point;
+    std::vector<PvdEntry> frames;     // the collection as the run left it
+    std::string start_time;           // the run's first start
+    std::vector<std::string> resumes; // JSON objects, this one last
+};
 
 // Thrown from the step callback to leave Simulation::run_until between two steps (the callback
 // runs after a step has completed, so the state is whole).
@@ -48,20 +68,29 @@ struct StopRun {
 // The stepping loop and everything it writes; one per run.
 class Runner {
 public:
-    Runner(Simulation& sim, const RunArgs& args, const RunPlan& plan)
+    Runner(Simulation& sim, const RunArgs& args, const RunPlan& plan, const ResumeState* resume = nullptr)
         : sim_(sim),
           args_(args),
           plan_(plan),
+          resume_(resume),
           record_(plan.out_dir,
                   RunIdentity{args.scene_path, args.overrides, args.command_line, sim.device_names(),
-                              interaction_forms(sim), sim.scene().to_json()},
-                  sim.scene().probes),
+                              interaction_forms(sim), sim.scene().to_json(), resume ? resume->start_time : std::string(),
+                              resume ? resume->resumes : std::vector<std::string>{}},
+                  sim.scene().probes, resume ? &resume->point : nullptr),
           frames_(plan.out_dir, plan.collection_name, args.csv),
           surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
                                                           SurfaceOptions{args.surface_spacing, 0.5})
                         : nullptr),
-          progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {}
+          progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {
+        if (resume_) {
+            frames_.resume_at(resume_->frames, resume_->point.time);
+            last_checkpoint_step_ = resume_->point.step;
+            if (args_.checkpoint_every)
+                next_checkpoint_ = (std::floor(sim.time() / *args_.checkpoint_every + 1e-9) + 1) * *args_.checkpoint_every;
+        }
+    }
 
     int run(double setup_seconds) {
         totals_.setup_seconds = setup_seconds;
@@ -86,9 +115,14 @@ public:
         std::string message, signal;
         try {
             try {
-                record_.step(sim_.info());
-                sample_probes();
-                submit_frame();
+                if (resume_) {
+                    // The checkpoint's step row, probe samples and frame are on disk already.
+                    next_frame = static_cast<std::uint64_t>(std::floor(sim_.time() / plan_.every + 1e-9)) + 1;
+                } else {
+                    record_.step(sim_.info());
+                    sample_probes();
+                    submit_frame();
+                }
                 while (sim_.time() < plan_.until - eps) {
                     const double frame_time = static_cast<double>(next_frame) * plan_.every;
                     sim_.run_until(std::min(frame_time, plan_.until), on_step);
@@ -233,6 +267,7 @@ private:
     Simulation& sim_;
     const RunArgs& args_;
     const RunPlan& plan_;
+    const ResumeState* resume_;
     RunRecord record_;
     FrameWriter frames_;
     std::unique_ptr<SurfaceOutput> surfaces_;  // --surface
@@ -261,11 +296,72 @@ int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan&
     return exit_simulation_failed;
 }
 
+namespace {
+
+std::string utc_text() {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return text;
+}
+
+// The newest checkpoint in the directory that reads back whole for this scene; the ones refused
+// on the way are named with the reason.
+std::pair<std::string, Checkpoint> latest_checkpoint(const std::string& dir, const Scene& scene) {
+    const auto all = list_checkpoints(dir);
+    std::string refused;
+    for (auto it = all.rbegin(); it != all.rend(); ++it) {
+        try {
+            return {it->second, read_checkpoint(it->second, &scene)};
+        } catch (const CheckpointError& e) {
+            std::cerr << "clsph: refusing " << e.what() << '\n';
+            refused += std::string(refused.empty() ? "" : "; ") + e.what();
+        }
+    }
+    if (all.empty()) throw Error("clsph resume: no checkpoint (checkpoint_NNNNN.clsph) in " + dir);
+    throw Error("clsph resume: no usable checkpoint in " + dir + " (" + refused + ")");
+}
+
+}  // namespace
+
+// clsph resume: the run's command line (main.cpp) over its last checkpoint, in its directory.
+int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clock::time_point start) {
+    auto [path, checkpoint] = latest_checkpoint(plan.out_dir, scene);
+    ResumeState state;
+    state.point = {checkpoint.step, checkpoint.time};
+    state.frames = read_pvd(plan.out_dir + "/" + plan.collection_name);
+    nlohmann::json old;
+    try {
+        old = nlohmann::json::parse(read_text_file(plan.out_dir + "/run.json"));
+    } catch (const std::exception& e) {
+        throw Error("clsph resume: cannot read " + plan.out_dir + "/run.json: " + e.what());
+    }
+    state.start_time = old.value("start_time", std::string());
+    if (old.contains("resumes"))
+        for (const auto& r : old.at("resumes")) state.resumes.push_back(r.dump());
+    install_interrupt_handler();
+    std::unique_ptr<Simulation> simulation = make_simulation(scene, args, &checkpoint);
+    Simulation& sim = *simulation;
+    nlohmann::json entry{{"command_line", args.resume_command_line}, {"checkpoint", path},
+                         {"step", checkpoint.step},   {"time", checkpoint.time},
+                         {"devices", sim.device_names()}, {"at", utc_text()}};
+    state.resumes.push_back(entry.dump());
+    std::cout << "clsph: resuming " << plan.out_dir << " from " << path << " (step " << checkpoint.step << ", t = "
+              << checkpoint.time << " s) on";
+    for (const auto& d : sim.device_names()) std::cout << ' ' << d;
+    std::cout << ", to t = " << plan.until << " s" << std::endl;
+    Runner runner(sim, args, plan, &state);
+    return runner.run(seconds_since(start));
+}
+
 int run_command(const RunArgs& args) {
     const auto start = clock::now();
     const Scene scene = load_scene(args.scene_path, args.overrides);
     const RunPlan plan = make_plan(args, scene);
     if (args.dry_run) return with_scene_path(args, [&] { return dry_run(scene, args, plan); });
+    if (!args.resume_dir.empty()) return resume_run(scene, args, plan, start);
     check_output_dir(plan.out_dir, args.force);  // refuse early, before minutes of kernel builds
 
     // From here on Ctrl-C and SIGTERM are caught: during set-up (kernel builds can take minutes)

@@ -3,7 +3,9 @@
 #include <clsph/error.hpp>
 #include <clsph/version.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <ctime>
 #include <sstream>
@@ -64,14 +66,57 @@ std::ofstream open_csv(const std::string& path, const char* header) {
     return out;
 }
 
+// A resume: the CSV at `path` rewritten with its header and the rows whose first field passes
+// `keep` (rows are in order: the first that fails ends it), then opened for appending.
+std::ofstream reopen_csv(const std::string& path, const char* header, const std::function<bool(const std::string&)>& keep) {
+    std::vector<std::string> rows;
+    {
+        std::ifstream in(path);
+        std::string line;
+        bool first = true;
+        while (std::getline(in, line)) {
+            if (first) {
+                first = false;
+                continue;
+            }
+            const std::string field = line.substr(0, line.find(','));
+            if (line.find(',') == std::string::npos || !keep(field)) break;
+            rows.push_back(line);
+        }
+    }
+    {
+        std::ofstream out(path, std::ios::trunc);
+        out << header << '\n';
+        for (const auto& r : rows) out << r << '\n';
+        if (!out) throw Error("cannot rewrite " + path);
+    }
+    std::ofstream out(path, std::ios::app);
+    if (!out) throw Error("cannot append to " + path);
+    return out;
+}
+
 }  // namespace
 
-RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes)
+RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume)
     : dir_(std::move(dir)), identity_(std::move(identity)), started_(utc_now()), last_flush_(std::chrono::steady_clock::now()) {
-    stats_ = open_csv(dir_ + "/stats.csv", "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed");
-    for (const auto& p : probes) {
-        const std::string path = dir_ + "/probe_" + safe_name(p.name) + ".csv";
-        probe_files_.emplace_back(p.name, std::make_unique<std::ofstream>(open_csv(path, "time,value")));
+    if (!identity_.start_time.empty()) started_ = identity_.start_time;
+    const char* stats_header = "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed";
+    if (resume) {
+        const auto step = resume->step;
+        const double t = resume->time, eps = 1e-8 * std::max(1.0, std::abs(resume->time));  // the rows hold 9 digits
+        stats_ = reopen_csv(dir_ + "/stats.csv", stats_header,
+                            [step](const std::string& f) { return std::stoull(f) <= step; });
+        for (const auto& p : probes) {
+            const std::string path = dir_ + "/probe_" + safe_name(p.name) + ".csv";
+            probe_files_.emplace_back(p.name, std::make_unique<std::ofstream>(reopen_csv(
+                                                  path, "time,value", [t, eps](const std::string& f) { return std::stod(f) <= t + eps; })));
+        }
+    } else {
+        stats_ = open_csv(dir_ + "/stats.csv", stats_header);
+        for (const auto& p : probes) {
+            const std::string path = dir_ + "/probe_" + safe_name(p.name) + ".csv";
+            probe_files_.emplace_back(p.name, std::make_unique<std::ofstream>(open_csv(path, "time,value")));
+        }
     }
     write_json(Ending{"running"});
 }
@@ -145,8 +190,13 @@ std::string RunRecord::json_text(const Ending& e) const {
       << "  \"overrides\": " << json_strings(identity_.overrides) << ",\n"
       << "  \"devices\": " << json_strings(identity_.devices) << ",\n"
       << "  \"interaction\": " << json_strings(identity_.interactions) << ",\n"
-      << "  \"start_time\": " << json_string(started_) << ",\n"
-      << "  \"status\": " << json_string(e.status) << ",\n";
+      << "  \"start_time\": " << json_string(started_) << ",\n";
+    if (!identity_.resumes.empty()) {
+        j << "  \"resumes\": [";
+        for (std::size_t i = 0; i < identity_.resumes.size(); ++i) j << (i ? ", " : "") << identity_.resumes[i];
+        j << "],\n";
+    }
+    j << "  \"status\": " << json_string(e.status) << ",\n";
     if (e.exit_status >= 0) j << "  \"exit_status\": " << e.exit_status << ",\n";
     if (!e.signal.empty()) j << "  \"signal\": " << json_string(e.signal) << ",\n";
     if (!e.message.empty()) j << "  \"message\": " << json_string(e.message) << ",\n";

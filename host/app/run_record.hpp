@@ -20,11 +20,21 @@ struct RunIdentity {
     std::vector<std::string> devices;
     std::vector<std::string> interactions;  // the interaction form each device runs, in device order
     std::string scene_json;  // Scene::to_json(): the resolved scene, every default filled in
+    // clsph resume: the run's first start time and the resumes so far, each a JSON object.
+    std::string start_time;
+    std::vector<std::string> resumes;
+};
+
+// A resume's rows: stats.csv rows after `step` and probe rows after `time` are cut off (a run
+// killed after its last checkpoint wrote them; they are written again), the rest kept.
+struct ResumePoint {
+    std::uint64_t step = 0;
+    double time = 0;
 };
 
 class RunRecord {
 public:
-    RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes);
+    RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume = nullptr);
 
     // stats.csv: step,time,dt,particles,fluid,removed,kinetic_energy,max_speed. The files are
     // flushed about once a second, so `tail -f` and a plotting script see the run as it goes, and
