@@ -4,6 +4,7 @@
 //                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
 //                   [--balance dynamic|static|off] [--balance-log FILE] [--surface] [--surface-every DT]
 //                   [--surface-ply] [--checkpoint-every DT] [--checkpoint-keep K]
+//                   [--on-device-failure stop|continue]
 //   clsph resume DIR [--until T] [--devices SPEC] [--steps N]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 #include "run_args.hpp"
@@ -88,6 +89,11 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--checkpoint-keep", a.checkpoint_keep, "the last K checkpoints are kept (default 3)")
         ->check(CLI::PositiveNumber)
         ->type_name("K");
+    run.add_option("--on-device-failure", a.on_device_failure,
+                   "when a device fails mid-run: stop (exit 3, last_good.vtu) or continue (back to the last checkpoint, "
+                   "the slabs re-cut over the remaining devices)")
+        ->check(CLI::IsMember({"stop", "continue"}))
+        ->capture_default_str();
     run.add_option("--balance-log", a.balance_log, "several devices: write the balancer's per-step CSV to FILE (docs/balance.md)")
         ->type_name("FILE");
 }

@@ -28,11 +28,14 @@ struct RunArgs {
     bool surface_ply = false;                 // --surface-ply: also .ply
     double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
     std::optional<double> checkpoint_every;   // --checkpoint-every DT: checkpoint_NNNNN.clsph at the first frame past each DT
-    std::size_t checkpoint_keep = 3;          // --checkpoint-keep K: the last K checkpoints kept
+    std::size_t checkpoint_keep = 3;
+    // --on-device-failure: stop (exit 3) or continue (back to the last checkpoint, the remaining devices).
+    std::string on_device_failure = "stop";          // --checkpoint-keep K: the last K checkpoints kept
     std::vector<std::string> command_line;    // argv, for run.json
     // clsph resume: the output directory to go on in (frames, stats and probes continue there).
     std::string resume_dir;
     std::vector<std::string> resume_command_line;  // the resume's own argv (run.json "resumes")
+    std::string resume_reason;                     // why (run.json "resumes"): empty for clsph resume
 };
 
 // The most steps --steps takes (a run of 10^12 steps is years on any machine; more is a typo).

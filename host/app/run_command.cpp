@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <csignal>
 #include <sstream>
 #include <cmath>
@@ -92,6 +93,11 @@ public:
         }
     }
 
+    // After run() returned exit_device_failed with --on-device-failure continue: the device that
+    // failed (its label) and the error; empty otherwise.
+    const std::string& failed_device() const { return failed_device_; }
+    const std::string& failure_message() const { return failure_message_; }
+
     int run(double setup_seconds) {
         totals_.setup_seconds = setup_seconds;
         const auto start = clock::now();
@@ -122,6 +128,8 @@ public:
                     record_.step(sim_.info());
                     sample_probes();
                     submit_frame();
+                    // Something to go back to when a device fails.
+                    if (args_.on_device_failure == "continue") write_checkpoint_now();
                 }
                 while (sim_.time() < plan_.until - eps) {
                     const double frame_time = static_cast<double>(next_frame) * plan_.every;
@@ -155,6 +163,15 @@ public:
             code = exit_simulation_failed;
             write_last_good();
         } catch (const DeviceError& e) {
+            if (args_.on_device_failure == "continue" && sim_.device_names().size() > 1 && !e.device().empty()) {
+                // run_command goes back to the last checkpoint on the devices that are left.
+                progress_.clear();
+                failed_device_ = e.device();
+                failure_message_ = e.what();
+                frames_.finish();
+                record_.flush();
+                return exit_device_failed;
+            }
             // A device failed mid-run (lost, out of resources): its state is gone; the last frame
             // downloaded is written as the last good state.
             progress_.clear();
@@ -275,7 +292,18 @@ private:
     RunTotals totals_;
     double next_checkpoint_ = args_.checkpoint_every ? *args_.checkpoint_every : 0.0;
     std::uint64_t last_checkpoint_step_ = ~std::uint64_t{0};
+    std::string failed_device_, failure_message_;
 };
+
+// The selection spec of `names` (labels "#i ...") without `failed`.
+std::string remaining_devices(const std::vector<std::string>& names, const std::string& failed) {
+    std::string spec;
+    for (const auto& n : names) {
+        if (n == failed || n.size() < 2 || n[0] != '#') continue;
+        spec += (spec.empty() ? "" : ",") + n.substr(1, n.find(' ') - 1);
+    }
+    return spec;
+}
 
 }  // namespace
 
@@ -326,6 +354,34 @@ std::pair<std::string, Checkpoint> latest_checkpoint(const std::string& dir, con
 
 }  // namespace
 
+int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clock::time_point start);
+
+// The run; with --on-device-failure continue, a device failure goes back to the last checkpoint
+// on the devices that are left (as clsph resume would, recorded in run.json's resumes).
+int run_with_failover(Simulation& sim, const RunArgs& args, const RunPlan& plan, const ResumeState* state,
+                      const Scene& scene, clock::time_point start) {
+    std::string failed, message;
+    std::vector<std::string> names = sim.device_names();
+    {
+        Runner runner(sim, args, plan, state);
+        const int code = runner.run(seconds_since(start));
+        if (runner.failed_device().empty()) return code;
+        failed = runner.failed_device();
+        message = runner.failure_message();
+    }
+    RunArgs next = args;
+    next.devices = remaining_devices(names, failed);
+    next.resume_dir = plan.out_dir;
+    next.resume_reason = "device " + failed + " failed: " + message;
+    next.resume_command_line = args.resume_command_line.empty() ? args.command_line : args.resume_command_line;
+    std::cerr << "clsph: device " << failed << " failed: " << message
+              << "\nclsph: --on-device-failure continue: going back to the last checkpoint on devices " << next.devices
+              << '\n';
+    // Tests: the injected fault (CLSPH_TEST_FAULT) was the failure; the devices left run clean.
+    ::unsetenv("CLSPH_TEST_FAULT");
+    return resume_run(scene, next, plan, start);
+}
+
 // clsph resume: the run's command line (main.cpp) over its last checkpoint, in its directory.
 int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clock::time_point start) {
     auto [path, checkpoint] = latest_checkpoint(plan.out_dir, scene);
@@ -347,13 +403,13 @@ int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clo
     nlohmann::json entry{{"command_line", args.resume_command_line}, {"checkpoint", path},
                          {"step", checkpoint.step},   {"time", checkpoint.time},
                          {"devices", sim.device_names()}, {"at", utc_text()}};
+    if (!args.resume_reason.empty()) entry["reason"] = args.resume_reason;
     state.resumes.push_back(entry.dump());
     std::cout << "clsph: resuming " << plan.out_dir << " from " << path << " (step " << checkpoint.step << ", t = "
               << checkpoint.time << " s) on";
     for (const auto& d : sim.device_names()) std::cout << ' ' << d;
     std::cout << ", to t = " << plan.until << " s" << std::endl;
-    Runner runner(sim, args, plan, &state);
-    return runner.run(seconds_since(start));
+    return run_with_failover(sim, args, plan, &state, scene, start);
 }
 
 int run_command(const RunArgs& args) {
@@ -389,8 +445,7 @@ int run_command(const RunArgs& args) {
 
     // Only now, with the scene loaded and the devices ready, does the directory appear.
     prepare_output_dir(plan.out_dir, args.force);
-    Runner runner(sim, args, plan);
-    return runner.run(seconds_since(start));
+    return run_with_failover(sim, args, plan, nullptr, scene, start);
 }
 
 }  // namespace clsph::app

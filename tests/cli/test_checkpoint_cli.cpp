@@ -147,3 +147,44 @@ TEST_CASE("three devices of one implementation: resume leaves the straight run's
         CHECK(slurp(straight + "/" + name) == slurp(split + "/" + name));
     }
 }
+
+// Also under cli_resume_multi (three pocl devices): the middle device fails at its 300th launch
+// (step 8); with continue the run goes back to its last checkpoint and finishes on two.
+TEST_CASE("three devices, a device failing mid-run: continue finishes on two, stop exits 3") {
+    const std::vector<std::string> common = {"--devices", "all", "--balance", "off", "--until", "0.01", "--every", "0.0005"};
+    SUBCASE("continue") {
+        const std::string out = work_dir("failover_continue");
+        ::setenv("CLSPH_TEST_FAULT", "enqueue:300:1", 1);
+        std::string log;
+        const int code = run(args({{"run", scene}, tiny, common, {"--out", out, "--on-device-failure", "continue"}}), log);
+        ::unsetenv("CLSPH_TEST_FAULT");
+        INFO(log);
+        REQUIRE(code == 0);
+        CHECK(log.find("--on-device-failure continue: going back to the last checkpoint on devices 0,2") != std::string::npos);
+        const auto j = read_json(out + "/run.json");
+        CHECK(j.at("status") == "completed");
+        CHECK(j.at("devices").size() == 2);
+        REQUIRE(j.at("resumes").size() == 1);
+        CHECK(j.at("resumes")[0].at("reason").get<std::string>().find("failed") != std::string::npos);
+        // Every particle exactly once in the last frame, the collection without a gap.
+        const auto pvd = clsph::read_pvd(out + "/dam_break.pvd");
+        REQUIRE(pvd.size() == 21);
+        for (std::size_t i = 0; i < pvd.size(); ++i) CHECK(near(pvd[i].time, 0.0005 * static_cast<double>(i)));
+        const auto last = by_id(clsph::read_vtu(out + "/" + pvd.back().file));
+        REQUIRE(last.size() == 6305);
+        for (std::size_t i = 1; i < last.size(); ++i) CHECK(last[i].first != last[i - 1].first);
+        // stats.csv: one row per step, in order.
+        const auto rows = read_csv_rows(out + "/stats.csv");
+        for (std::size_t i = 1; i < rows.size(); ++i) CHECK(std::stoull(rows[i][0]) == i - 1);
+    }
+    SUBCASE("stop (the default)") {
+        const std::string out = work_dir("failover_stop");
+        ::setenv("CLSPH_TEST_FAULT", "enqueue:300:1", 1);
+        std::string log;
+        const int code = run(args({{"run", scene}, tiny, common, {"--out", out}}), log);
+        ::unsetenv("CLSPH_TEST_FAULT");
+        CHECK(code == 3);
+        CHECK(read_json(out + "/run.json").at("status") == "failed");
+        CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
+    }
+}
