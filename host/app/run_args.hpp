@@ -27,6 +27,8 @@ struct RunArgs {
     std::optional<double> surface_every;      // --surface-every DT (implies --surface); default: every frame
     bool surface_ply = false;                 // --surface-ply: also .ply
     double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
+    bool render = false;                      // --render: an image per surface (implies --surface)
+    bool video = false;                       // --video: an MP4 of the images (implies --render)
     std::vector<std::string> command_line;    // argv, for run.json
 };
 
