@@ -42,39 +42,86 @@ inline float3 project(const Camera* c, const float3 p) {  // (pixel x, pixel y, 
             }                                                                                          \
     } while (0)
 
-__kernel void render_depth(const uint triangles, const Camera cam, __global const float4* pos,
+// The camera as plain vector arguments (a struct argument with float4 members is laid out
+// differently by some implementations: Mesa rusticl 22.3 drew nothing with one).
+inline Camera camera_of(const float4 eye, const float4 right, const float4 up, const float4 forward, const float4 view,
+                        const uint2 size) {
+    Camera c;
+    c.eye = eye;
+    c.right = right;
+    c.up = up;
+    c.forward = forward;
+    c.scale = view.x;
+    c.cx = view.y;
+    c.cy = view.z;
+    c.width = size.x;
+    c.height = size.y;
+    return c;
+}
+
+// The nearest depth so far: atomic_min, or (-DCLSPH_DEPTH_BY_CAS, where the quirks layer says the
+// driver's atomic_min loses writes) a compare-and-swap loop.
+inline void depth_min(volatile __global uint* p, const uint v) {
+#ifdef CLSPH_DEPTH_BY_CAS
+    uint old = *p;
+    while (v < old) {
+        const uint prev = atomic_cmpxchg(p, old, v);
+        if (prev == old) break;
+        old = prev;
+    }
+#else
+    atomic_min(p, v);
+#endif
+}
+
+__kernel void render_depth(const uint triangles, const float4 eye, const float4 right, const float4 up,
+                           const float4 forward, const float4 view, const uint2 size, __global const float4* pos,
                            __global const uint* tri, __global uint* depth) {
+    // Every argument read before any branch (Mesa rusticl 22.3 warns that it treats argument loads
+    // in control flow as uniform, and drew nothing when they were read inside the loops).
+    const Camera c = camera_of(eye, right, up, forward, view, size);
+    __global const float4* const p_pos = pos;
+    __global const uint* const p_tri = tri;
+    __global uint* const p_depth = depth;
+    const uint count = triangles;
     const uint t = get_global_id(0);
-    if (t >= triangles) return;
-    const Camera c = cam;
-    const float3 a = project(&c, pos[tri[3u * t]].xyz), b = project(&c, pos[tri[3u * t + 1u]].xyz),
-                 d = project(&c, pos[tri[3u * t + 2u]].xyz);
-#define DEPTH_PIXEL(x, y, z, w0, w1, w2) atomic_min(&depth[(uint)(y) * c.width + (uint)(x)], as_uint(z))
+    if (t >= count) return;
+    const float3 a = project(&c, p_pos[p_tri[3u * t]].xyz), b = project(&c, p_pos[p_tri[3u * t + 1u]].xyz),
+                 d = project(&c, p_pos[p_tri[3u * t + 2u]].xyz);
+#define DEPTH_PIXEL(x, y, z, w0, w1, w2) depth_min(&p_depth[(uint)(y) * c.width + (uint)(x)], as_uint(z))
     RASTER(&c, a, b, d, DEPTH_PIXEL);
 #undef DEPTH_PIXEL
 }
 
 // Lambert shading with a head light and a key light, `base` the surface's colour (0..1).
-__kernel void render_shade(const uint triangles, const Camera cam, const float4 base, __global const float4* pos,
-                           __global const float4* nrm, __global const uint* tri, __global const uint* depth,
-                           __global uint* colour) {
+__kernel void render_shade(const uint triangles, const float4 eye, const float4 right, const float4 up,
+                           const float4 forward, const float4 view, const uint2 size, const float4 base,
+                           __global const float4* pos, __global const float4* nrm, __global const uint* tri,
+                           __global const uint* depth, __global uint* colour) {
+    const Camera c = camera_of(eye, right, up, forward, view, size);  // arguments first (see render_depth)
+    __global const float4* const p_pos = pos;
+    __global const float4* const p_nrm = nrm;
+    __global const uint* const p_tri = tri;
+    __global const uint* const p_depth = depth;
+    __global uint* const p_colour = colour;
+    const float4 p_base = base;
+    const uint count = triangles;
     const uint t = get_global_id(0);
-    if (t >= triangles) return;
-    const Camera c = cam;
-    const uint i0 = tri[3u * t], i1 = tri[3u * t + 1u], i2 = tri[3u * t + 2u];
-    const float3 a = project(&c, pos[i0].xyz), b = project(&c, pos[i1].xyz), d = project(&c, pos[i2].xyz);
-    const float3 n0 = nrm[i0].xyz, n1 = nrm[i1].xyz, n2 = nrm[i2].xyz;
+    if (t >= count) return;
+    const uint i0 = p_tri[3u * t], i1 = p_tri[3u * t + 1u], i2 = p_tri[3u * t + 2u];
+    const float3 a = project(&c, p_pos[i0].xyz), b = project(&c, p_pos[i1].xyz), d = project(&c, p_pos[i2].xyz);
+    const float3 n0 = p_nrm[i0].xyz, n1 = p_nrm[i1].xyz, n2 = p_nrm[i2].xyz;
     const float3 key = normalize((float3)(0.3f, -0.5f, 0.8f));
 #define SHADE_PIXEL(x, y, z, w0, w1, w2)                                                         \
     do {                                                                                         \
         const uint at = (uint)(y) * c.width + (uint)(x);                                         \
-        if (depth[at] != as_uint(z)) break;                                                      \
+        if (p_depth[at] != as_uint(z)) break;                                                      \
         float3 n = w0 * n0 + w1 * n1 + w2 * n2;                                                  \
         const float len = length(n);                                                             \
         n = len > 0.0f ? n / len : -c.forward.xyz;                                               \
         const float l = 0.25f + 0.45f * fabs(dot(n, c.forward.xyz)) + 0.35f * fmax(dot(n, key), 0.0f); \
-        const float3 rgb = clamp(base.xyz * l, 0.0f, 1.0f);                                     \
-        colour[at] = (uint)(rgb.x * 255.0f + 0.5f) | ((uint)(rgb.y * 255.0f + 0.5f) << 8) |   \
+        const float3 rgb = clamp(p_base.xyz * l, 0.0f, 1.0f);                                     \
+        p_colour[at] = (uint)(rgb.x * 255.0f + 0.5f) | ((uint)(rgb.y * 255.0f + 0.5f) << 8) |   \
                      ((uint)(rgb.z * 255.0f + 0.5f) << 16) | (255u << 24);                       \
     } while (0)
     RASTER(&c, a, b, d, SHADE_PIXEL);

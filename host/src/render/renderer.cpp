@@ -52,8 +52,9 @@ cl_float4 f4(const V& v) { return {{static_cast<float>(v[0]), static_cast<float>
 }  // namespace
 
 Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_group_size(64)) {
-    depth_k_ = device.kernel("render.cl", "render_depth", "");
-    shade_k_ = device.kernel("render.cl", "render_shade", "");
+    const std::string opts = device.quirks().atomic_min_unreliable ? "-DCLSPH_DEPTH_BY_CAS" : "";
+    depth_k_ = device.kernel("render.cl", "render_depth", opts);
+    shade_k_ = device.kernel("render.cl", "render_shade", opts);
 }
 
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& layers) {
@@ -68,6 +69,8 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
     kc.cy = static_cast<float>(b.cy);
     kc.width = camera.width;
     kc.height = camera.height;
+    const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
+    const cl_uint2 size{{camera.width, camera.height}};
     const std::size_t pixels = std::size_t{camera.width} * camera.height;
     auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
     auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
@@ -98,14 +101,15 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
         device_.write(u.nrm, n.data(), n.size());
         device_.write(u.tri, t.data(), t.size());
         u.count = layer.triangles.size();
-        cl_rt::set_args(depth_k_, u.count, kc, u.pos, u.tri, depth);
+        cl_rt::set_args(depth_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, u.pos, u.tri, depth);
         device_.launch("render.depth", depth_k_, u.count, wg_);
     }
     for (std::size_t l = 0; l < layers.size(); ++l) {  // every layer's depth first, then the colours
         const auto& u = up[l];
         if (u.count == 0) continue;
         const cl_float4 base{{layers[l].colour[0], layers[l].colour[1], layers[l].colour[2], 1.0f}};
-        cl_rt::set_args(shade_k_, u.count, kc, base, u.pos, u.nrm, u.tri, depth, colour);
+        cl_rt::set_args(shade_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, base, u.pos, u.nrm, u.tri, depth,
+                        colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }
     DepthImage out;
