@@ -7,6 +7,7 @@
 //                   [--on-device-failure stop|continue]
 //   clsph resume DIR [--until T] [--devices SPEC] [--steps N]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
+//   clsph render DIR [--devices SPEC] [--spacing M] [--video]
 #include "run_args.hpp"
 #include "run_command.hpp"
 #include "surface_command.hpp"
@@ -75,6 +76,8 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
         ->check(CLI::PositiveNumber)
         ->type_name("DT");
     run.add_flag("--surface-ply", a.surface_ply, "also write each surface as binary PLY (implies --surface)");
+    run.add_flag("--render", a.render, "an image of the surface at every surface: render_NNNNN.png (implies --surface)");
+    run.add_flag("--video", a.video, "and an MP4 of the images at the end, if ffmpeg is installed (implies --render)");
     run.add_option("--surface-spacing", a.surface_spacing, "the surface's sample spacing in m (default: dp/2; implies --surface)")
         ->check(CLI::PositiveNumber)
         ->type_name("M");
@@ -170,6 +173,13 @@ int main(int argc, char** argv) {
     surface->add_option("--devices", surface_args.devices, "devices to use (as clsph run --devices)");
     surface->add_option("--spacing", surface_args.spacing, "sample spacing in m (default: dp/2)")->check(CLI::PositiveNumber);
     surface->add_flag("--ply", surface_args.ply, "also write each surface as binary PLY");
+    auto* render = app.add_subcommand("render", "the surface and an image (render_NNNNN.png) of every frame of a finished run");
+    clsph::app::SurfaceArgs render_args;
+    render_args.render = true;
+    render->add_option("dir", render_args.dir, "the output directory of a clsph run")->required();
+    render->add_option("--devices", render_args.devices, "devices to use (as clsph run --devices)");
+    render->add_option("--spacing", render_args.spacing, "sample spacing in m (default: dp/2)")->check(CLI::PositiveNumber);
+    render->add_flag("--video", render_args.video, "and an MP4 of the images, if ffmpeg is installed");
 
     auto* run = app.add_subcommand("run", "run a scene; frames, stats, probes and run.json go to the output directory");
     clsph::app::RunArgs run_args;
@@ -200,6 +210,7 @@ int main(int argc, char** argv) {
         if (*resume)
             return clsph::app::run_command(resume_args(resume_dir, resume_until, resume_devices, resume_steps,
                                                        std::vector<std::string>(argv, argv + argc)));
+        if (*render) return clsph::app::surface_command(render_args);
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);
             return clsph::app::run_command(run_args);

@@ -25,6 +25,7 @@ bool written_by_a_run(const std::string& name) {
     if (starts_with(name, "checkpoint_") && ends_with(name, ".clsph")) return true;
     if (starts_with(name, "surge_front.")) return true;
     if (starts_with(name, "surface_") && (ends_with(name, ".vtp") || ends_with(name, ".ply"))) return true;
+    if ((starts_with(name, "render_") && ends_with(name, ".png")) || name == "render.mp4") return true;
     return ends_with(name, ".pvd") || name == "stats.csv" || name == "run.json";
 }
 

@@ -28,9 +28,11 @@ struct RunArgs {
     bool surface_ply = false;                 // --surface-ply: also .ply
     double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
     std::optional<double> checkpoint_every;   // --checkpoint-every DT: checkpoint_NNNNN.clsph at the first frame past each DT
-    std::size_t checkpoint_keep = 3;
+    std::size_t checkpoint_keep = 3;          // --checkpoint-keep K: the last K checkpoints kept
     // --on-device-failure: stop (exit 3) or continue (back to the last checkpoint, the remaining devices).
-    std::string on_device_failure = "stop";          // --checkpoint-keep K: the last K checkpoints kept
+    std::string on_device_failure = "stop";
+    bool render = false;                      // --render: an image per surface (implies --surface)
+    bool video = false;                       // --video: an MP4 of the images (implies --render)
     std::vector<std::string> command_line;    // argv, for run.json
     // clsph resume: the output directory to go on in (frames, stats and probes continue there).
     std::string resume_dir;

@@ -80,9 +80,10 @@ public:
                               resume ? resume->resumes : std::vector<std::string>{}},
                   sim.scene().probes, resume ? &resume->point : nullptr),
           frames_(plan.out_dir, plan.collection_name, args.csv),
-          surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0
+          surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render ||
+                            args.video
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
-                                                          SurfaceOptions{args.surface_spacing, 0.5})
+                                                          SurfaceOptions{args.surface_spacing, 0.5}, args.render || args.video)
                         : nullptr),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {
         if (resume_) {
@@ -213,6 +214,10 @@ public:
                                       "), interaction " + interaction_name(d.interaction));
         }
         print_summary(std::cout, totals_);
+        if (surfaces_ && surfaces_->written() > 0) {
+            std::cout << "  surfaces: " << surfaces_->written() << " in " << surfaces_->collection_path() << '\n';
+            if (args_.video) std::cout << "  " << surfaces_->make_video() << '\n';
+        }
         if (args_.profile && code != exit_device_failed) {
             print_profile(std::cout, sim_.profile(), totals_.steps, sim_.device_names().size());
             for (const auto& d : sim_.shares())  // which form the sph.forces (and sph.density) rows ran

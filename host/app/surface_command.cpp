@@ -37,18 +37,19 @@ int surface_command(const SurfaceArgs& args) {
     if (frames.empty()) throw Error(pvd + ": lists no frame");
     SurfaceOptions so;
     so.spacing = args.spacing;
-    SurfaceOutput out(args.dir, 0, args.ply, so);
+    SurfaceOutput out(args.dir, 0, args.ply, so, args.render);
     Options opts;
     opts.devices = args.devices;
     for (const auto& f : frames) {
         const Particles p = read_vtu(args.dir + "/" + f.file);
         Simulation sim(scene, p, opts);
         const TriangleMesh mesh = sim.surface(so);
-        out.write(f.time, mesh);
+        out.write(f.time, mesh, sim);
         std::cout << "t = " << f.time << " s: " << mesh.triangles.size() << " triangles\n";
     }
-    std::cout << "clsph surface: " << out.written() << " surfaces in " << args.dir << "; open " << out.collection_path()
-              << " in ParaView\n";
+    std::cout << "clsph " << (args.render ? "render" : "surface") << ": " << out.written() << " surfaces"
+              << (args.render ? " and images" : "") << " in " << args.dir << "; open " << out.collection_path() << " in ParaView\n";
+    if (args.video) std::cout << out.make_video() << '\n';
     return 0;
 }
 

@@ -10,6 +10,8 @@ struct SurfaceArgs {
     std::string devices;
     double spacing = 0;  // m; 0: dp / 2
     bool ply = false;
+    bool render = false;  // clsph render: images too
+    bool video = false;   // and an MP4 of them (ffmpeg)
 };
 
 int surface_command(const SurfaceArgs& args);

@@ -1,27 +1,43 @@
 #include "surface_output.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace clsph::app {
 
-SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options)
-    : dir_(std::move(dir)), every_(every), ply_(ply), options_(options), pvd_(dir_ + "/surface.pvd") {}
+SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options, bool render)
+    : dir_(std::move(dir)), every_(every), ply_(ply), options_(options), render_(render), pvd_(dir_ + "/surface.pvd") {}
 
 void SurfaceOutput::at_frame(Simulation& sim) {
     const double t = sim.time();
     if (count_ > 0 && every_ > 0 && t < next_ - 1e-9 * every_) return;
-    write(t, sim.surface(options_));
+    write(t, sim.surface(options_), sim);
     if (every_ > 0)
         while (next_ <= t + 1e-9 * every_) next_ += every_;
 }
 
-void SurfaceOutput::write(double time, const TriangleMesh& mesh) {
+void SurfaceOutput::write(double time, const TriangleMesh& mesh, Simulation& sim) {
     char name[32];
     std::snprintf(name, sizeof name, "surface_%05zu", count_);
     write_vtp(dir_ + "/" + name + ".vtp", mesh);
     if (ply_) write_ply(dir_ + "/" + name + ".ply", mesh);
     pvd_.add(time, std::string(name) + ".vtp");
+    if (render_) {
+        char image[32];
+        std::snprintf(image, sizeof image, "render_%05zu.png", count_);
+        write_png(dir_ + "/" + image, sim.render(mesh, camera_for(sim.scene())));
+    }
     ++count_;
+}
+
+std::string SurfaceOutput::make_video() const {
+    if (!render_ || count_ == 0) return {};
+    if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0)
+        return "no video: ffmpeg is not installed (apt-get install ffmpeg); the frames are " + dir_ + "/render_*.png";
+    const std::string cmd = "ffmpeg -loglevel error -y -framerate 25 -i '" + dir_ + "/render_%05d.png' -pix_fmt yuv420p " +
+                            "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" + dir_ + "/render.mp4'";
+    if (std::system(cmd.c_str()) != 0) return "no video: ffmpeg failed (" + cmd + ")";
+    return "video: " + dir_ + "/render.mp4";
 }
 
 }  // namespace clsph::app

@@ -12,12 +12,15 @@ namespace clsph::app {
 
 class SurfaceOutput {
 public:
-    // every: simulated seconds between surfaces (0: at every frame).
-    SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {});
+    // every: simulated seconds between surfaces (0: at every frame); render: also an image of each
+    // surface, DIR/render_NNNNN.png (clsph/render.hpp).
+    SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {}, bool render = false);
     // Called at each frame; writes a surface when one is due (the first frame always).
     void at_frame(Simulation& sim);
-    // Writes the surface of `mesh` at `time` (clsph surface: a frame read back).
-    void write(double time, const TriangleMesh& mesh);
+    // Writes the surface of `mesh` at `time` (and its image, rendered by `sim`).
+    void write(double time, const TriangleMesh& mesh, Simulation& sim);
+    // With images: an MP4 of them through ffmpeg when it is installed; returns what happened.
+    std::string make_video() const;
     std::size_t written() const { return count_; }
     const std::string& collection_path() const { return pvd_.path(); }
     const SurfaceOptions& options() const { return options_; }
@@ -27,6 +30,7 @@ private:
     double every_;
     bool ply_;
     SurfaceOptions options_;
+    bool render_;
     PvdWriter pvd_;
     std::size_t count_ = 0;
     double next_ = 0;

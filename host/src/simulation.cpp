@@ -2,6 +2,7 @@
 #include "simulation_impl.hpp"
 
 #include "cl/errors.hpp"
+#include "render/scene_image.hpp"
 #include "surface/extract.hpp"
 #include "clsph/testing.hpp"
 
@@ -345,6 +346,11 @@ Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const {
     }
     p.first.push_back(p.points.size());
     return p;
+}
+
+Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
+    auto& m = *impl_;
+    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(*m.driver, m.grid, m.scene, surface, camera); });
 }
 
 std::vector<ProbeSample> Simulation::sample_probes() {

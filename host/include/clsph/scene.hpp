@@ -92,6 +92,14 @@ struct RunControl {
     Interaction interaction = Interaction::automatic;  // the interaction form (clsph/interaction.hpp)
 };
 
+// How frames are rendered (clsph/render.hpp). Without a camera the view frames the domain.
+struct RenderSettings {
+    bool has_camera = false;
+    Vec3 eye{0, 0, 0}, target{0, 0, 0}, up{0, 0, 1};
+    double fov_deg = 40.0;
+    std::uint32_t width = 1280, height = 720;
+};
+
 struct Scene {
     std::string name = "scene";
     PhysicsParams physics;
@@ -102,6 +110,7 @@ struct Scene {
     std::vector<MeshObject> meshes;
     std::vector<Probe> probes;
     RunControl run;
+    RenderSettings render;
 
     // Reads a JSON scene (schema: docs/scenes.md). Errors name the file and the key path.
     static Scene from_file(const std::string& path);

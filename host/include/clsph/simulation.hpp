@@ -2,6 +2,7 @@
 #pragma once
 #include "clsph/interaction.hpp"
 #include "clsph/mesh.hpp"
+#include "clsph/render.hpp"
 #include "clsph/particles.hpp"
 #include "clsph/scene.hpp"
 
@@ -155,6 +156,9 @@ public:
     // The free surface now (clsph/mesh.hpp): sampled and meshed on the devices, each its own slab;
     // the same mesh on any number of devices.
     TriangleMesh surface(const SurfaceOptions& options = {});
+    // An image of `surface` (from surface()) with the scene's solid boxes and walls, seen by
+    // `camera`: each device draws the triangles over its own slab, the host keeps the nearest.
+    Image render(const TriangleMesh& surface, const CameraView& camera);
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
     std::vector<KernelTime> host_phases() const;  // host wall time per step phase

@@ -26,6 +26,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     q.fake_event_timestamps = rusticl;
     q.kernel_work_group_size_understated = rusticl;
     q.vectorises_work_items = rusticl;
+    q.atomic_min_unreliable = rusticl;
     q.late_transfer_callbacks = nvidia;
     if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel

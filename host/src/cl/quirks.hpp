@@ -49,6 +49,10 @@ struct Quirks {
     // pass 1417 ms for lanes against 1275 ms for fine (pocl pthread: lanes 34 ms, fine 1220 ms;
     // clsph-bench-interaction, BENCHMARKS.md). Where set, the automatic choice on a CPU is fine.
     bool vectorises_work_items = false;
+    // Mesa rusticl 22.3 (llvmpipe): atomic_min on a __global uint wrote nothing in the renderer's
+    // depth pass (0 of 72,011 pixels of a sphere; a plain min or an atomic_cmpxchg loop drew all of
+    // them: tests/device/test_render.cpp). Where set, the depth pass uses the compare-and-swap loop.
+    bool atomic_min_unreliable = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);

@@ -162,6 +162,27 @@ RunControl read_run(const Json& v) {
     return r;
 }
 
+RenderSettings read_render(const Json& v) {
+    Fields f(v, "render", {"camera", "size"});
+    RenderSettings r;
+    if (const Json* c = f.find("camera")) {
+        Fields cf(*c, "render.camera", {"eye", "target", "up", "fov"});
+        r.has_camera = true;
+        r.eye = read_vec3(cf.require("eye"), "render.camera.eye");
+        r.target = read_vec3(cf.require("target"), "render.camera.target");
+        r.up = cf.vec3("up", r.up);
+        r.fov_deg = cf.number("fov", r.fov_deg);
+    }
+    if (const Json* s = f.find("size")) {
+        if (!s->is_array() || s->size() != 2) key_error("render.size", "expected [width, height] in pixels");
+        const int w = read_int((*s)[0], "render.size[0]"), h = read_int((*s)[1], "render.size[1]");
+        if (w <= 0 || h <= 0) key_error("render.size", "width and height must be positive (got " + std::to_string(w) + " x " + std::to_string(h) + ")");
+        r.width = static_cast<std::uint32_t>(w);
+        r.height = static_cast<std::uint32_t>(h);
+    }
+    return r;
+}
+
 }  // namespace
 
 std::string scene_name_for(const std::string& path) {
@@ -170,7 +191,7 @@ std::string scene_name_for(const std::string& path) {
 }
 
 Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
-    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run"});
+    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run", "render"});
     Scene s;
     s.name = top.text("name", origin.default_name);
     s.physics = read_physics(top.require("physics"));
@@ -180,6 +201,7 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
     if (const Json* r = top.find("run")) s.run = read_run(*r);
+    if (const Json* r = top.find("render")) s.render = read_render(*r);
 
     const bool fluid_mesh = std::any_of(s.meshes.begin(), s.meshes.end(), [](const MeshObject& m) { return m.fluid; });
     if (s.fluids.empty() && !fluid_mesh)

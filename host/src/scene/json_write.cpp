@@ -121,6 +121,17 @@ Json scene_to_document(const Scene& s) {
     run["fixed_dt"] = s.run.fixed_dt;
     run["interaction"] = interaction_name(s.run.interaction);
     doc["run"] = run;
+    Json render;
+    if (s.render.has_camera) {
+        Json cam;
+        cam["eye"] = vec(s.render.eye);
+        cam["target"] = vec(s.render.target);
+        cam["up"] = vec(s.render.up);
+        cam["fov"] = s.render.fov_deg;
+        render["camera"] = cam;
+    }
+    render["size"] = Json::array({s.render.width, s.render.height});
+    doc["render"] = render;
     return doc;
 }
 

@@ -182,6 +182,25 @@ void Scene::validate() const {
     require(std::isfinite(run.fixed_dt) && run.fixed_dt >= 0, "run.fixed_dt",
             "must be a finite time >= 0 s (0: the adaptive CFL step)");
 
+    require(render.width > 0 && render.height > 0 && render.width <= 16384 && render.height <= 16384, "render.size",
+            "width and height must be 1 to 16384 pixels");
+    if (render.has_camera) {
+        require_finite(render.eye, "render.camera.eye");
+        require_finite(render.target, "render.camera.target");
+        require_finite(render.up, "render.camera.up");
+        Vec3 view{render.target[0] - render.eye[0], render.target[1] - render.eye[1], render.target[2] - render.eye[2]};
+        const double vl = std::sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
+        require(vl > 0, "render.camera.eye", "is at the target: the camera looks nowhere");
+        const double ul = std::sqrt(render.up[0] * render.up[0] + render.up[1] * render.up[1] + render.up[2] * render.up[2]);
+        require(ul > 0, "render.camera.up", "must not be the zero vector");
+        const Vec3 c{view[1] * render.up[2] - view[2] * render.up[1], view[2] * render.up[0] - view[0] * render.up[2],
+                     view[0] * render.up[1] - view[1] * render.up[0]};
+        require(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) > 1e-6 * vl * ul, "render.camera.up",
+                "must not point along the view direction (eye to target)");
+        require(std::isfinite(render.fov_deg) && render.fov_deg > 0 && render.fov_deg < 180, "render.camera.fov",
+                "must be an angle in (0, 180) degrees");
+    }
+
     const double tol = 1e-9 * p.dp;
     auto inside = [&](const Vec3& a) {
         for (int k = 0; k < 3; ++k)

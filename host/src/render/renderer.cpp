@@ -1,0 +1,181 @@
+#include "render/renderer.hpp"
+
+#include "cl/kernel_args.hpp"
+#include "clsph/error.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace clsph::render {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The kernel's Camera struct (kernels/render.cl), as laid out by OpenCL C.
+struct KernelCamera {
+    cl_float4 eye, right, up, forward;
+    cl_float scale, cx, cy;
+    cl_uint width, height;
+    cl_uint pad[3];  // the struct's size rounds up to its float4 alignment
+};
+static_assert(sizeof(KernelCamera) == 96, "matches kernels/render.cl's Camera");
+
+using V = std::array<double, 3>;
+V sub(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+V cross(const V& a, const V& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+V unit(const V& a) {
+    const double l = std::sqrt(dot(a, a));
+    return {a[0] / l, a[1] / l, a[2] / l};
+}
+
+struct Basis {
+    V eye, right, up, forward;
+    double scale, cx, cy;
+};
+
+Basis basis(const CameraView& c) {
+    Basis b;
+    b.eye = c.eye;
+    b.forward = unit(sub(c.target, c.eye));
+    b.right = unit(cross(b.forward, c.up));
+    b.up = cross(b.right, b.forward);
+    b.scale = 0.5 * c.height / std::tan(0.5 * c.fov_deg * kPi / 180.0);
+    b.cx = 0.5 * c.width;
+    b.cy = 0.5 * c.height;
+    return b;
+}
+
+cl_float4 f4(const V& v) { return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 0.0f}}; }
+
+}  // namespace
+
+Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_group_size(64)) {
+    const std::string opts = device.quirks().atomic_min_unreliable ? "-DCLSPH_DEPTH_BY_CAS" : "";
+    depth_k_ = device.kernel("render.cl", "render_depth", opts);
+    shade_k_ = device.kernel("render.cl", "render_shade", opts);
+}
+
+DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& layers) {
+    const Basis b = basis(camera);
+    KernelCamera kc{};
+    kc.eye = f4(b.eye);
+    kc.right = f4(b.right);
+    kc.up = f4(b.up);
+    kc.forward = f4(b.forward);
+    kc.scale = static_cast<float>(b.scale);
+    kc.cx = static_cast<float>(b.cx);
+    kc.cy = static_cast<float>(b.cy);
+    kc.width = camera.width;
+    kc.height = camera.height;
+    const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
+    const cl_uint2 size{{camera.width, camera.height}};
+    const std::size_t pixels = std::size_t{camera.width} * camera.height;
+    auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
+    auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
+    device_.fill(depth, cl_uint(0xffffffffu), pixels);
+    device_.fill(colour, cl_uint(0), pixels);
+    struct Uploaded {
+        cl_rt::Buffer pos, nrm, tri;
+        std::size_t count = 0;
+    };
+    std::vector<Uploaded> up(layers.size());
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+        const auto& layer = layers[l];
+        if (layer.triangles.empty()) continue;
+        const auto& m = *layer.mesh;
+        std::vector<float> p(4 * m.positions.size()), n(4 * m.positions.size(), 0.0f);
+        for (std::size_t v = 0; v < m.positions.size(); ++v) {
+            std::memcpy(&p[4 * v], m.positions[v].data(), 12);
+            if (!m.normals.empty()) std::memcpy(&n[4 * v], m.normals[v].data(), 12);
+        }
+        std::vector<cl_uint> t(3 * layer.triangles.size());
+        for (std::size_t k = 0; k < layer.triangles.size(); ++k)
+            for (std::size_t c = 0; c < 3; ++c) t[3 * k + c] = m.triangles[layer.triangles[k]][c];
+        auto& u = up[l];
+        u.pos = device_.alloc(p.size() * sizeof(float), "render positions");
+        u.nrm = device_.alloc(n.size() * sizeof(float), "render normals");
+        u.tri = device_.alloc(t.size() * sizeof(cl_uint), "render triangles");
+        device_.write(u.pos, p.data(), p.size());
+        device_.write(u.nrm, n.data(), n.size());
+        device_.write(u.tri, t.data(), t.size());
+        u.count = layer.triangles.size();
+        cl_rt::set_args(depth_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, u.pos, u.tri, depth);
+        device_.launch("render.depth", depth_k_, u.count, wg_);
+    }
+    for (std::size_t l = 0; l < layers.size(); ++l) {  // every layer's depth first, then the colours
+        const auto& u = up[l];
+        if (u.count == 0) continue;
+        const cl_float4 base{{layers[l].colour[0], layers[l].colour[1], layers[l].colour[2], 1.0f}};
+        cl_rt::set_args(shade_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, base, u.pos, u.nrm, u.tri, depth,
+                        colour);
+        device_.launch("render.shade", shade_k_, u.count, wg_);
+    }
+    DepthImage out;
+    out.width = camera.width;
+    out.height = camera.height;
+    out.depth.resize(pixels);
+    out.colour.resize(pixels);
+    device_.read(depth, out.depth.data(), pixels);
+    device_.read(colour, out.colour.data(), pixels);
+    return out;
+}
+
+DepthImage composite(const std::vector<DepthImage>& images) {
+    if (images.empty()) throw Error("render: nothing to composite");
+    DepthImage out = images.front();
+    for (std::size_t i = 1; i < images.size(); ++i) {
+        const auto& im = images[i];
+        for (std::size_t p = 0; p < out.depth.size(); ++p)
+            if (im.depth[p] < out.depth[p]) {
+                out.depth[p] = im.depth[p];
+                out.colour[p] = im.colour[p];
+            }
+    }
+    return out;
+}
+
+void draw_lines(DepthImage& im, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
+                std::array<std::uint8_t, 3> rgb) {
+    const Basis b = basis(camera);
+    const std::uint32_t packed = rgb[0] | (std::uint32_t{rgb[1]} << 8) | (std::uint32_t{rgb[2]} << 16) | (255u << 24);
+    for (const auto& line : lines) {
+        const V d0 = sub(line[0], b.eye), d1 = sub(line[1], b.eye);
+        const double z0 = dot(d0, b.forward), z1 = dot(d1, b.forward);
+        if (z0 <= 1e-6 || z1 <= 1e-6) continue;
+        const double x0 = b.cx + b.scale * dot(d0, b.right) / z0, y0 = b.cy - b.scale * dot(d0, b.up) / z0;
+        const double x1 = b.cx + b.scale * dot(d1, b.right) / z1, y1 = b.cy - b.scale * dot(d1, b.up) / z1;
+        const int steps = static_cast<int>(std::ceil(std::max(std::abs(x1 - x0), std::abs(y1 - y0)))) + 1;
+        if (steps > 1 << 16) continue;
+        for (int s = 0; s <= steps; ++s) {
+            const double t = static_cast<double>(s) / steps;
+            const double x = x0 + t * (x1 - x0), y = y0 + t * (y1 - y0);
+            const double z = 1.0 / ((1 - t) / z0 + t / z1);
+            if (x < 0 || y < 0 || x >= im.width || y >= im.height) continue;
+            const std::size_t p = static_cast<std::size_t>(y) * im.width + static_cast<std::size_t>(x);
+            const float zf = static_cast<float>(z * 0.999);  // a little in front of a face the line lies on
+            std::uint32_t bits;
+            std::memcpy(&bits, &zf, 4);
+            if (bits <= im.depth[p]) {
+                im.depth[p] = bits;
+                im.colour[p] = packed;
+            }
+        }
+    }
+}
+
+Image to_rgb(const DepthImage& im, std::array<std::uint8_t, 3> background) {
+    Image out;
+    out.width = im.width;
+    out.height = im.height;
+    out.rgb.resize(std::size_t{3} * im.width * im.height);
+    for (std::size_t p = 0; p < im.depth.size(); ++p) {
+        const bool hit = im.depth[p] != 0xffffffffu;
+        for (std::size_t c = 0; c < 3; ++c)
+            out.rgb[3 * p + c] = hit ? static_cast<std::uint8_t>((im.colour[p] >> (8 * c)) & 0xffu) : background[c];
+    }
+    return out;
+}
+
+}  // namespace clsph::render

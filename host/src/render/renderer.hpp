@@ -1,0 +1,48 @@
+// Rasterising triangle meshes on one device (kernels/render.cl): a depth buffer and a colour buffer
+// of the camera's size, layers of triangles drawn into them in turn, both read back for the host
+// to composite several devices' images by depth.
+#pragma once
+#include "cl/device.hpp"
+#include "clsph/mesh.hpp"
+#include "clsph/render.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace clsph::render {
+
+struct Layer {
+    const TriangleMesh* mesh = nullptr;
+    std::vector<std::uint32_t> triangles;  // indices into mesh->triangles to draw (empty: none)
+    std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
+};
+
+struct DepthImage {
+    std::uint32_t width = 0, height = 0;
+    std::vector<std::uint32_t> depth;   // bits of a positive float; all ones where nothing is
+    std::vector<std::uint32_t> colour;  // RGBA8 packed, R lowest
+};
+
+class Renderer {
+public:
+    explicit Renderer(cl_rt::Device& device);
+    DepthImage draw(const CameraView& camera, const std::vector<Layer>& layers);
+
+private:
+    cl_rt::Device& device_;
+    cl::Kernel depth_k_, shade_k_;
+    std::size_t wg_;
+};
+
+// The nearest of several depth images, pixel by pixel, over `background` (the walls' lines are
+// drawn by the caller); ties keep the first image's colour.
+DepthImage composite(const std::vector<DepthImage>& images);
+
+// Lines drawn into the image with the depth test (wireframes of the walls).
+void draw_lines(DepthImage& image, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
+                std::array<std::uint8_t, 3> rgb);
+
+Image to_rgb(const DepthImage& image, std::array<std::uint8_t, 3> background);
+
+}  // namespace clsph::render

@@ -1,0 +1,100 @@
+#include "render/scene_image.hpp"
+
+#include "render/renderer.hpp"
+
+#include <cmath>
+#include <memory>
+
+namespace clsph::render {
+namespace {
+
+// A box as 12 triangles with face normals (outwards).
+TriangleMesh box_mesh(const std::vector<SolidBox>& boxes) {
+    TriangleMesh m;
+    for (const auto& b : boxes) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (int side = 0; side < 2; ++side) {
+                const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                std::array<float, 3> n{0, 0, 0};
+                n[static_cast<std::size_t>(axis)] = side ? 1.0f : -1.0f;
+                const auto base = static_cast<std::uint32_t>(m.positions.size());
+                for (int k = 0; k < 4; ++k) {
+                    std::array<float, 3> p{};
+                    p[static_cast<std::size_t>(axis)] = static_cast<float>(side ? b.max[static_cast<std::size_t>(axis)] : b.min[static_cast<std::size_t>(axis)]);
+                    const int cu = (k == 1 || k == 2), cv = (k >= 2);
+                    p[static_cast<std::size_t>(u)] = static_cast<float>(cu ? b.max[static_cast<std::size_t>(u)] : b.min[static_cast<std::size_t>(u)]);
+                    p[static_cast<std::size_t>(v)] = static_cast<float>(cv ? b.max[static_cast<std::size_t>(v)] : b.min[static_cast<std::size_t>(v)]);
+                    m.positions.push_back(p);
+                    m.normals.push_back(n);
+                }
+                m.triangles.push_back({base, base + 1, base + 2});
+                m.triangles.push_back({base, base + 2, base + 3});
+            }
+    }
+    return m;
+}
+
+std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) {
+    std::vector<std::array<Vec3, 2>> lines;
+    for (const auto& w : walls)
+        for (int axis = 0; axis < 3; ++axis)
+            for (int a = 0; a < 2; ++a)
+                for (int b = 0; b < 2; ++b) {
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                    Vec3 p0{}, p1{};
+                    p0[static_cast<std::size_t>(u)] = p1[static_cast<std::size_t>(u)] = a ? w.max[static_cast<std::size_t>(u)] : w.min[static_cast<std::size_t>(u)];
+                    p0[static_cast<std::size_t>(v)] = p1[static_cast<std::size_t>(v)] = b ? w.max[static_cast<std::size_t>(v)] : w.min[static_cast<std::size_t>(v)];
+                    p0[static_cast<std::size_t>(axis)] = w.min[static_cast<std::size_t>(axis)];
+                    p1[static_cast<std::size_t>(axis)] = w.max[static_cast<std::size_t>(axis)];
+                    lines.push_back({p0, p1});
+                }
+    return lines;
+}
+
+}  // namespace
+
+Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
+                   const CameraView& camera) {
+    auto& slabs = driver.slabs();
+    // Each surface triangle to the slab owning the column of its centroid.
+    const int split = grid.axis(0);
+    std::vector<std::vector<std::uint32_t>> mine(slabs.size());
+    for (std::uint32_t t = 0; t < surface.triangles.size(); ++t) {
+        double x = 0;
+        for (auto v : surface.triangles[t]) x += surface.positions[v][static_cast<std::size_t>(split)] / 3.0;
+        const double rel = (x - scene.domain.min[static_cast<std::size_t>(split)]) / grid.params().cell_s;
+        const std::size_t column = rel <= 0 ? 0 : std::min<std::size_t>(static_cast<std::size_t>(rel), grid.params().n_s - 1);
+        std::size_t owner = slabs.size() - 1;
+        for (std::size_t d = 0; d < slabs.size(); ++d)
+            if (column >= slabs[d].first_col && column < slabs[d].end_col) {
+                owner = d;
+                break;
+            }
+        mine[owner].push_back(t);
+    }
+    const TriangleMesh solids = box_mesh(scene.solids);
+    std::vector<std::uint32_t> all_solids(solids.triangles.size());
+    for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
+    std::vector<DepthImage> images;
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
+        std::vector<Layer> layers;
+        layers.push_back({&surface, mine[d], {0.30f, 0.55f, 0.92f}});
+        if (d == 0) layers.push_back({&solids, all_solids, {0.62f, 0.60f, 0.58f}});
+        Renderer r(*slabs[d].device);
+        images.push_back(r.draw(camera, layers));
+    }
+    DepthImage im;
+    if (images.empty()) {
+        im.width = camera.width;
+        im.height = camera.height;
+        im.depth.assign(std::size_t{camera.width} * camera.height, 0xffffffffu);
+        im.colour.assign(im.depth.size(), 0);
+    } else {
+        im = composite(images);
+    }
+    draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
+    return to_rgb(im, {246, 246, 246});
+}
+
+}  // namespace clsph::render

@@ -1,0 +1,177 @@
+// Images rendered by the devices (kernels/render.cl, host/src/render/): a sphere's silhouette
+// against its exact projected area on every device, PNG files read back, the default camera
+// framing the domain, and the same image from one device and from three.
+#include "clsph/error.hpp"
+#include "clsph/render.hpp"
+#include "clsph/simulation.hpp"
+#include "render/renderer.hpp"
+#include "surface/marching_cubes.hpp"
+#include "support/test_devices.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+using namespace clsph;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+TriangleMesh sphere_mesh(double radius, const Vec3& centre, std::uint32_t n) {
+    surface::SampleGrid g;
+    g.points = {n, n, n};
+    const double extent = 1.3 * radius;
+    g.spacing = 2 * extent / (n - 1);
+    for (int k = 0; k < 3; ++k) g.origin[static_cast<std::size_t>(k)] = centre[static_cast<std::size_t>(k)] - extent;
+    std::vector<float> f(g.samples());
+    for (std::uint32_t k = 0; k < n; ++k)
+        for (std::uint32_t j = 0; j < n; ++j)
+            for (std::uint32_t i = 0; i < n; ++i) {
+                const double x = g.origin[0] + i * g.spacing - centre[0], y = g.origin[1] + j * g.spacing - centre[1],
+                             z = g.origin[2] + k * g.spacing - centre[2];
+                f[i + n * (j + n * k)] = static_cast<float>(radius - std::sqrt(x * x + y * y + z * z));
+            }
+    return surface::marching_cubes_reference(f, g, 0.0f);
+}
+}  // namespace
+
+TEST_SUITE("render") {
+TEST_CASE("a sphere's silhouette covers pi r^2 pixels within 2 % on every device") {
+    auto gen = test::rng(1900);
+    std::uniform_real_distribution<double> u(-0.2, 0.2);
+    const double R = 0.5;
+    const Vec3 centre{u(gen), u(gen), u(gen)};
+    const TriangleMesh sphere = sphere_mesh(R, centre, 120);
+    CameraView cam;
+    cam.width = 640;
+    cam.height = 480;
+    cam.fov_deg = 30;
+    cam.target = centre;
+    const double d = 3.0;
+    cam.eye = {centre[0] + d * 0.6, centre[1] - d * 0.8, centre[2]};
+    cam.up = {0, 0, 1};
+    // The silhouette of a sphere seen from distance d is a circle of angular radius asin(R / d).
+    const double scale = 0.5 * cam.height / std::tan(0.5 * cam.fov_deg * kPi / 180.0);
+    const double r_px = scale * std::tan(std::asin(R / d));
+    const double expected = kPi * r_px * r_px;
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        render::Renderer r(*dev);
+        render::Layer layer{&sphere, {}, {0.3f, 0.5f, 0.9f}};
+        for (std::uint32_t t = 0; t < sphere.triangles.size(); ++t) layer.triangles.push_back(t);
+        const auto im = r.draw(cam, {layer});
+        std::size_t covered = 0, coloured = 0;
+        for (std::size_t p = 0; p < im.depth.size(); ++p) {
+            covered += im.depth[p] != 0xffffffffu;
+            coloured += im.colour[p] != 0;
+        }
+        MESSAGE(covered << " pixels covered, pi r^2 = " << expected);
+        CHECK(std::abs(covered / expected - 1) < 0.02);
+        CHECK(coloured == covered);  // every covered pixel got its colour in the second pass
+    }
+}
+
+TEST_CASE("a PNG reads back as written; a bad image is refused") {
+    Image im;
+    im.width = 37;
+    im.height = 11;
+    auto gen = test::rng(1901);
+    for (std::size_t i = 0; i < std::size_t{3} * im.width * im.height; ++i) im.rgb.push_back(static_cast<std::uint8_t>(gen()));
+    const std::string dir = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp";
+    const std::string path = dir + "/clsph_test_" + std::to_string(test::seed()) + ".png";
+    write_png(path, im);
+    const Image back = read_png(path);
+    std::remove(path.c_str());
+    CHECK(back.width == im.width);
+    CHECK(back.height == im.height);
+    CHECK(back.rgb == im.rgb);
+    Image bad;
+    bad.width = 4;
+    bad.height = 4;
+    CHECK_THROWS_AS(write_png(path, bad), clsph::Error);
+    CHECK_THROWS_AS(read_png(dir + "/clsph_no_such_file.png"), clsph::Error);
+}
+
+TEST_CASE("the default camera frames the domain: every corner of the domain is in the image") {
+    Scene s;
+    s.domain.min = {-0.3, 0.1, 0};
+    s.domain.max = {2.5, 0.9, 1.2};
+    const CameraView c = camera_for(s);
+    CHECK(c.width >= 1280);
+    CHECK(c.height >= 720);
+    const double scale = 0.5 * c.height / std::tan(0.5 * c.fov_deg * kPi / 180.0);
+    auto unit = [](Vec3 v) {
+        const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        return Vec3{v[0] / l, v[1] / l, v[2] / l};
+    };
+    const Vec3 f = unit({c.target[0] - c.eye[0], c.target[1] - c.eye[1], c.target[2] - c.eye[2]});
+    const Vec3 r = unit({f[1] * c.up[2] - f[2] * c.up[1], f[2] * c.up[0] - f[0] * c.up[2], f[0] * c.up[1] - f[1] * c.up[0]});
+    const Vec3 up{r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
+    for (int corner = 0; corner < 8; ++corner) {
+        Vec3 p{};
+        for (int k = 0; k < 3; ++k) p[static_cast<std::size_t>(k)] = (corner >> k) & 1 ? s.domain.max[static_cast<std::size_t>(k)] : s.domain.min[static_cast<std::size_t>(k)];
+        const Vec3 d{p[0] - c.eye[0], p[1] - c.eye[1], p[2] - c.eye[2]};
+        const double z = d[0] * f[0] + d[1] * f[1] + d[2] * f[2];
+        REQUIRE(z > 0);
+        const double x = 0.5 * c.width + scale * (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / z;
+        const double y = 0.5 * c.height - scale * (d[0] * up[0] + d[1] * up[1] + d[2] * up[2]) / z;
+        CHECK(x >= 0);
+        CHECK(x < c.width);
+        CHECK(y >= 0);
+        CHECK(y < c.height);
+    }
+}
+}
+
+// Three devices of one implementation (CTest: POCL_DEVICES="pthread pthread pthread").
+TEST_SUITE("multi_bitwise") {
+TEST_CASE("the same scene rendered on one device and on three gives the same image within a few pixels") {
+    REQUIRE(test::devices().size() >= 3);
+    Scene s;
+    s.physics.dp = 0.01;
+    s.physics.hdp = 2.0;
+    s.physics.coefsound = 10;
+    s.domain.min = {-0.04, -0.04, -0.04};
+    s.domain.max = {0.34, 0.14, 0.34};
+    s.domain.split_axis = 0;
+    BoxWalls w;
+    w.min = {0, 0, 0};
+    w.max = {0.3, 0.1, 0.3};
+    s.walls.push_back(w);
+    FluidBlock fb;
+    fb.min = {0, 0, 0};
+    fb.max = {0.1, 0.1, 0.2};
+    s.fluids.push_back(fb);
+    SolidBox obstacle;
+    obstacle.min = {0.2, 0.03, 0};
+    obstacle.max = {0.24, 0.07, 0.04};
+    s.solids.push_back(obstacle);
+    s.render.width = 400;
+    s.render.height = 300;
+    auto image_on = [&](std::size_t count) {
+        Options o;
+        std::string spec;
+        for (std::size_t i = 0; i < count; ++i) spec += (i ? "," : "") + std::to_string(test::devices()[i]->info().index);
+        o.devices = spec;
+        Simulation sim(s, o);
+        for (int i = 0; i < 30; ++i) sim.step();
+        return sim.render(sim.surface(), camera_for(s));
+    };
+    const Image one = image_on(1), three = image_on(3);
+    REQUIRE(one.rgb.size() == three.rgb.size());
+    std::size_t differ = 0, drawn = 0;
+    for (std::size_t p = 0; p < one.rgb.size() / 3; ++p) {
+        bool same = true;
+        for (std::size_t c = 0; c < 3; ++c) same = same && std::abs(int(one.rgb[3 * p + c]) - int(three.rgb[3 * p + c])) <= 2;
+        differ += same ? 0 : 1;
+        drawn += one.rgb[3 * p] != 246 ? 1 : 0;
+    }
+    MESSAGE(drawn << " pixels drawn, " << differ << " differ between one device and three");
+    CHECK(drawn > 5000);
+    CHECK(differ <= 10);
+}
+}
