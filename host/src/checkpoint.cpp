@@ -102,7 +102,11 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 Checkpoint read_checkpoint(const std::string& path, const Scene* scene) {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw CheckpointError(path, "cannot be read");
-    const std::string in((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    f.seekg(0, std::ios::end);
+    const auto length = f.tellg();
+    f.seekg(0, std::ios::beg);
+    std::string in(length > 0 ? static_cast<std::size_t>(length) : 0, '\0');
+    if (!f.read(in.data(), static_cast<std::streamsize>(in.size()))) throw CheckpointError(path, "cannot be read");
     Reader r{in, path};
     char magic[8];
     r.raw(magic, sizeof magic);
