@@ -2,6 +2,8 @@
 // SIGKILL) and reads every file back: what the README promises is on disk.
 #include "support.hpp"
 
+#include <cstdio>
+
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -68,6 +70,16 @@ TEST_CASE("SIGTERM ends the run like Ctrl-C: a final frame, complete files, exit
     CHECK(std::abs(last - std::stod(stats.back()[1])) < 1e-9);
     CHECK(j.at("steps").get<std::uint64_t>() == std::stoull(stats.back()[0]));
     CHECK(read_text(log).find("clsph: interrupted at t = ") != std::string::npos);
+    // A checkpoint where it stopped, and clsph resume goes on from it: rows without gap or repeat.
+    const auto steps = j.at("steps").get<unsigned long long>();
+    char name[64];
+    std::snprintf(name, sizeof name, "/checkpoint_%05llu.clsph", steps);
+    CHECK(fs::exists(out + name));
+    std::string resumed;
+    CHECK(run({"resume", out, "--steps", "3"}, resumed) == 0);
+    const auto after = read_csv_rows(out + "/stats.csv");
+    for (std::size_t r = 1; r < after.size(); ++r) CHECK(std::stoull(after[r][0]) == r - 1);
+    CHECK(std::stoull(after.back()[0]) == steps + 3);
 }
 
 TEST_CASE("Ctrl-C twice: the run ends at once and run.json still says how") {
