@@ -6,6 +6,7 @@
 
 #include "clsph/error.hpp"
 #include "clsph/mesh.hpp"
+#include "clsph/render.hpp"
 #include "clsph/scene_io.hpp"
 #include "clsph/simulation.hpp"
 
@@ -17,7 +18,7 @@
 
 int main(int argc, char** argv) {
     CLI::App app{"clsph surface benchmark"};
-    std::string devices, scene_path = "scenes/bunny.json", vtp;
+    std::string devices, scene_path = "scenes/bunny.json", vtp, png;
     std::vector<std::string> overrides;
     int steps = 20, repeats = 5, warmup = 1;
     double spacing = 0;
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
     app.add_option("--warmup", warmup, "untimed surfaces first");
     app.add_option("--spacing", spacing, "sample spacing (m; default dp/2)");
     app.add_option("--vtp", vtp, "write the last surface here");
+    app.add_option("--png", png, "also time an image of each surface (the scene's camera) and write the last here");
     CLI11_PARSE(app, argc, argv);
     try {
         const clsph::Scene scene = clsph::load_scene(scene_path, overrides);
@@ -41,12 +43,19 @@ int main(int argc, char** argv) {
         clsph::SurfaceOptions so;
         so.spacing = spacing;
         clsph::TriangleMesh mesh;
-        std::vector<double> t;
+        clsph::Image image;
+        std::vector<double> t, ti;
+        const auto camera = clsph::camera_for(scene);
         for (int r = 0; r < warmup + repeats; ++r) {
             const auto t0 = std::chrono::steady_clock::now();
             mesh = sim.surface(so);
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            if (r >= warmup) t.push_back(s);
+            const auto t1 = std::chrono::steady_clock::now();
+            if (!png.empty()) image = sim.render(mesh, camera);
+            const auto t2 = std::chrono::steady_clock::now();
+            if (r >= warmup) {
+                t.push_back(std::chrono::duration<double>(t1 - t0).count());
+                ti.push_back(std::chrono::duration<double>(t2 - t1).count());
+            }
         }
         std::size_t after = 0;
         for (const auto& m : sim.memory()) after += m.peak_bytes;
@@ -60,6 +69,13 @@ int main(int argc, char** argv) {
                     1e3 * sum.median, repeats, 1e3 * sum.min, 1e3 * sum.max);
         std::printf("device memory (peak, all devices): %.1f MiB before, %.1f MiB after the surfaces (+%.1f MiB)\n",
                     double(before) / 1048576.0, double(after) / 1048576.0, double(after - before) / 1048576.0);
+        if (!png.empty()) {
+            const auto si = clsph::bench::summarize(ti);
+            std::printf("**%.1f ms per image** (%u x %u, median of %d; min %.1f, max %.1f; host clocks, read-back and "
+                        "compositing included)\n",
+                        1e3 * si.median, camera.width, camera.height, repeats, 1e3 * si.min, 1e3 * si.max);
+            clsph::write_png(png, image);
+        }
         if (!vtp.empty()) clsph::write_vtp(vtp, mesh);
     } catch (const clsph::Error& e) {
         std::cerr << "clsph-bench-surface: " << e.what() << '\n';

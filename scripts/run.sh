@@ -16,7 +16,7 @@ echo
 echo
 
 out=out/dam_break
-args=(scenes/dam_break.json --out "$out" --force --csv)
+args=(scenes/dam_break.json --out "$out" --force --csv --render --video)
 # The scene as written (L/dp = 20, 17,615 particles, ~5,000 steps) takes 5 s on an NVIDIA H200 and
 # about 40 s on two CPU cores through pocl (the interaction pass's CPU form; BENCHMARKS.md).
 echo "+ clsph run ${args[*]} $*"
@@ -38,4 +38,6 @@ clsph: done in $((SECONDS - start)) s. Output in $out/:
   probe_*.csv          the scene's pressure and water-height probes
   run.json             the resolved scene, clsph version, devices and command line
   surge_front.png      the surge front against Koshizuka & Oka (1996)
+  surface.pvd          the free surface per frame (surface_*.vtp): open it in ParaView beside the frames
+  render_*.png         an image of each frame, rendered by the devices (render.mp4 too, when ffmpeg is installed)
 MSG

@@ -3,6 +3,10 @@
 #include "support.hpp"
 
 #include <clsph/mesh.hpp>
+#include <clsph/render.hpp>
+
+#include <cstdio>
+#include <cstdlib>
 
 #include <doctest/doctest.h>
 
@@ -57,4 +61,34 @@ TEST_CASE("clsph run --surface and clsph surface: a closed mesh per frame, liste
     code = run({"surface", out + "/no_such_dir"}, log);
     CHECK(code == 1);
     CHECK(log.find("run.json") != std::string::npos);
+}
+
+TEST_CASE("clsph run --render and clsph render: a PNG per surface, a note or a video") {
+    const std::string out = work_dir("render");
+    std::string log;
+    int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--render", "--video", "--set",
+                                                "render.size=[320,180]", "--out", out}}),
+                   log);
+    INFO(log);
+    REQUIRE(code == 0);
+    const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "/render_%05zu.png", i);
+        const clsph::Image im = clsph::read_png(out + name);
+        CHECK(im.width == 320);
+        CHECK(im.height == 180);
+        std::size_t drawn = 0;  // pixels other than the background
+        for (std::size_t p = 0; p < im.rgb.size() / 3; ++p) drawn += im.rgb[3 * p] != 246 || im.rgb[3 * p + 2] != 246;
+        CHECK(drawn > 500);
+    }
+    const bool has_ffmpeg = std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+    if (has_ffmpeg)
+        CHECK(fs::file_size(out + "/render.mp4") > 1000);
+    else
+        CHECK(log.find("ffmpeg is not installed") != std::string::npos);
+    fs::remove(out + "/render_00000.png");
+    code = run({"render", out}, log);
+    CHECK(code == 0);
+    CHECK(clsph::read_png(out + "/render_00000.png").width == 320);
 }
