@@ -317,7 +317,7 @@ std::string remaining_devices(const std::vector<std::string>& names, const std::
 // run.json "failed", the state at t = 0 the message names in last_good.vtu).
 int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan& plan, const std::string& message) {
     prepare_output_dir(plan.out_dir, args.force);
-    RunRecord record(plan.out_dir, RunIdentity{args.scene_path, args.overrides, args.command_line, {}, {}, scene.to_json()},
+    RunRecord record(plan.out_dir, RunIdentity{args.scene_path, args.overrides, args.command_line, {}, {}, scene.to_json(), {}, {}},
                      scene.probes);
     const Particles initial = scene.build_particles();
     write_vtu(plan.out_dir + "/last_good.vtu", initial);
@@ -331,14 +331,6 @@ int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan&
 
 namespace {
 
-std::string utc_text() {
-    const std::time_t now = std::time(nullptr);
-    std::tm tm{};
-    gmtime_r(&now, &tm);
-    char text[32];
-    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    return text;
-}
 
 // The newest checkpoint in the directory that reads back whole for this scene; the ones refused
 // on the way are named with the reason.
@@ -407,7 +399,7 @@ int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clo
     Simulation& sim = *simulation;
     nlohmann::json entry{{"command_line", args.resume_command_line}, {"checkpoint", path},
                          {"step", checkpoint.step},   {"time", checkpoint.time},
-                         {"devices", sim.device_names()}, {"at", utc_text()}};
+                         {"devices", sim.device_names()}, {"at", utc_now()}};
     if (!args.resume_reason.empty()) entry["reason"] = args.resume_reason;
     state.resumes.push_back(entry.dump());
     std::cout << "clsph: resuming " << plan.out_dir << " from " << path << " (step " << checkpoint.step << ", t = "

@@ -12,7 +12,6 @@
 #include <utility>
 
 namespace clsph::app {
-namespace {
 
 std::string utc_now() {
     const std::time_t now = std::time(nullptr);
@@ -22,6 +21,8 @@ std::string utc_now() {
     std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
     return text;
 }
+
+namespace {
 
 std::string json_string(const std::string& s) {
     std::string out = "\"";

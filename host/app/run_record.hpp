@@ -13,6 +13,9 @@
 
 namespace clsph::app {
 
+// Now as ISO 8601 UTC text, e.g. 2026-12-01T18:00:00Z (run.json's times).
+std::string utc_now();
+
 struct RunIdentity {
     std::string scene_file;
     std::vector<std::string> overrides;

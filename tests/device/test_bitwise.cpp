@@ -22,25 +22,11 @@ using namespace clsph;
 
 namespace {
 
-Scene small_dam(double dp) {
-    Scene s = test::dam_break_slice(0.146, dp, 3.0, x_min | x_max | z_min);
-    s.physics.coefsound = 10;
-    s.domain.split_axis = 0;
-    return s;
-}
-
-std::string first_devices(std::size_t count) {
-    const auto devs = test::devices();
-    std::string s;
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
-    return s;
-}
-
 // The same, the water moving along the split axis at 4 m/s: in 100 steps it crosses cuts and halo
 // columns, so cells hold particles that arrived from another device next to ones that stayed
 // (without that, every cell's particles come from one device and any order would pass).
 Scene sliding_dam(double dp) {
-    Scene s = small_dam(dp);
+    Scene s = test::small_dam(dp);
     s.fluids.front().velocity = {4.0, 0.0, 0.0};
     return s;
 }
@@ -101,7 +87,7 @@ std::vector<std::unique_ptr<Simulation>> on_1_2_3(const Scene& scene, const std:
     std::vector<std::unique_ptr<Simulation>> sims;
     for (std::size_t count = 1; count <= std::min<std::size_t>(3, devs.size()); ++count) {
         Options o = options(count);
-        o.devices = first_devices(count);
+        o.devices = test::device_spec(count);
         sims.push_back(std::make_unique<Simulation>(scene, o));
     }
     return sims;
@@ -111,7 +97,7 @@ std::vector<std::unique_ptr<Simulation>> on_1_2_3(const Scene& scene, const std:
 
 TEST_SUITE("multi_bitwise") {
 TEST_CASE("the same scene on 1, 2 and 3 devices is bitwise identical after 100 steps") {
-    auto still = on_1_2_3(small_dam(0.146 / 8), [](std::size_t) { return Options{}; });
+    auto still = on_1_2_3(test::small_dam(0.146 / 8), [](std::size_t) { return Options{}; });
     CHECK(first_difference(still, 100) == -1);
     auto sims = on_1_2_3(sliding_dam(0.146 / 8), [](std::size_t) { return Options{}; });
     CHECK(first_difference(sims, 100) == -1);

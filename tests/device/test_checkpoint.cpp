@@ -23,18 +23,8 @@ using namespace clsph;
 namespace {
 
 Scene sliding_dam() {
-    const double dp = 0.146 / 8;
-    Scene s = test::dam_break_slice(0.146, dp, 3.0, x_min | x_max | z_min);
-    s.physics.coefsound = 10;
-    s.domain.split_axis = 0;
+    Scene s = test::small_dam(0.146 / 8);
     s.fluids.front().velocity = {2.0, 0.0, 0.0};
-    return s;
-}
-
-std::string first_devices(std::size_t count) {
-    const auto devs = test::devices();
-    std::string s;
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
     return s;
 }
 
@@ -57,7 +47,7 @@ void check_restart_bitwise(std::size_t devices, bool synchronous, BalanceMode ba
     const bool exact_rows = devices == 1 || balance != BalanceMode::dynamic;
     const Scene scene = sliding_dam();
     Options o;
-    o.devices = first_devices(devices);
+    o.devices = test::device_spec(devices);
     o.synchronous = synchronous;
     o.balance = balance;
     const int N = 30, M = 40;
@@ -130,7 +120,7 @@ TEST_CASE("the same from the step ahead (one device with fp64)") {
 TEST_CASE("a flipped byte, a truncated file, another scene's checkpoint: refused naming file and reason") {
     const Scene scene = sliding_dam();
     Options o;
-    o.devices = first_devices(1);
+    o.devices = test::device_spec(1);
     const std::string path = temp_path("refused");
     {
         Simulation sim(scene, o);
@@ -182,8 +172,8 @@ TEST_CASE("a checkpoint of three devices resumed on one: the same particles, pos
     REQUIRE(devs.size() >= 3);
     const Scene scene = sliding_dam();
     Options three, one;
-    three.devices = first_devices(3);
-    one.devices = first_devices(1);
+    three.devices = test::device_spec(3);
+    one.devices = test::device_spec(1);
     const std::string path = temp_path("moved");
     Simulation straight(scene, three);
     for (int i = 0; i < 20; ++i) straight.step();

@@ -17,18 +17,11 @@ using namespace clsph;
 
 namespace {
 
-std::string spec_of(std::size_t count) {
-    const auto devs = test::devices();
-    std::string s;
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
-    return s;
-}
-
 Scene small_scene() { return test::dam_break_slice(0.1, 0.01, 3.0, x_min | x_max | z_min); }
 
 Options with_fault(std::size_t devices, testing::Fault fault) {
     Options o;
-    o.devices = spec_of(devices);
+    o.devices = test::device_spec(devices);
     testing::Seams seams;
     seams.faults.push_back(fault);
     testing::set_seams(o, std::move(seams));

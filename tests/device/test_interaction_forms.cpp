@@ -3,6 +3,7 @@
 // has a support of 4 dp, so the grid runs at reach 2 (cells of half a support along a and b).
 #include "clsph/simulation.hpp"
 #include "device/physics.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -15,36 +16,9 @@ using namespace clsph;
 
 namespace {
 
-Scene small_tank() {
-    Scene s;
-    s.name = "forms";
-    s.physics.dp = 0.01;
-    s.physics.hdp = 2.0;
-    s.physics.coefsound = 10;
-    s.domain.min = {-0.04, -0.04, -0.04};
-    s.domain.max = {0.34, 0.14, 0.34};
-    s.domain.split_axis = 0;
-    BoxWalls w;
-    w.min = {0, 0, 0};
-    w.max = {0.3, 0.1, 0.3};
-    s.walls.push_back(w);
-    FluidBlock f;
-    f.min = {0, 0, 0};
-    f.max = {0.1, 0.1, 0.2};
-    s.fluids.push_back(f);
-    return s;
-}
-
-std::string first_devices(std::size_t count) {
-    std::string s;
-    const auto devs = test::devices();
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
-    return s;
-}
-
 Particles run(const Scene& scene, Interaction form, std::size_t devices, int steps) {
     Options o;
-    o.devices = first_devices(devices);
+    o.devices = test::device_spec(devices);
     o.interaction = form;
     Simulation sim(scene, o);
     for (const auto& sh : sim.shares()) CHECK(sh.interaction == form);
@@ -56,7 +30,7 @@ Particles run(const Scene& scene, Interaction form, std::size_t devices, int ste
 
 TEST_SUITE("physics") {
 TEST_CASE("every interaction form, on one device and on three, follows the fine form on one device") {
-    const Scene scene = small_tank();
+    const Scene scene = test::small_tank(0.1, 0.2);
     const int steps = 20;
     const Particles ref = run(scene, Interaction::fine, 1, steps);
     std::map<std::uint32_t, std::size_t> ref_at;

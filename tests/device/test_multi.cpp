@@ -16,21 +16,6 @@ using namespace clsph;
 
 namespace {
 
-// A small dam break, boundaries on three sides, split along x.
-Scene small_dam(double dp) {
-    Scene s = test::dam_break_slice(0.146, dp, 3.0, x_min | x_max | z_min);
-    s.physics.coefsound = 10;
-    s.domain.split_axis = 0;
-    return s;
-}
-
-std::string spec_of(std::size_t count) {
-    const auto devs = test::devices();
-    std::string s;
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
-    return s;
-}
-
 std::map<std::uint32_t, std::size_t> by_id(const Particles& p) {
     std::map<std::uint32_t, std::size_t> m;
     for (std::size_t i = 0; i < p.size(); ++i) m[p.id[i]] = i;
@@ -65,7 +50,7 @@ struct Reference {
 };
 Reference one_device_run(const Scene& scene, int steps) {
     Options one;
-    one.devices = spec_of(1);
+    one.devices = test::device_spec(1);
     Simulation ref(scene, one);
     for (int i = 0; i < steps; ++i) ref.step();
     Reference r{ref.particles(), ref.time()};
@@ -80,13 +65,13 @@ TEST_CASE("the same scene on 1, 2 and 3 devices gives the same particles") {
     const auto devs = test::devices();
     REQUIRE(devs.size() >= 2);  // one device alone would compare nothing
     const double dp = 0.146 / 8;
-    const Scene scene = small_dam(dp);
+    const Scene scene = test::small_dam(dp);
     const Reference ref = one_device_run(scene, 100);
     const Particles& pr = ref.particles;
     for (std::size_t count = 2; count <= std::min<std::size_t>(3, devs.size()); ++count) {
         CAPTURE(count);
         Options o;
-        o.devices = spec_of(count);
+        o.devices = test::device_spec(count);
         Simulation sim(scene, o);
         // The same time steps as the reference, so positions compare at equal times.
         for (int i = 0; i < 100; ++i) sim.step();
@@ -107,13 +92,13 @@ TEST_CASE("devices going idle and back give the same particles as one device") {
     const auto devs = test::devices();
     REQUIRE(devs.size() >= 2);
     const double dp = 0.146 / 8;
-    const Scene scene = small_dam(dp);
+    const Scene scene = test::small_dam(dp);
     const Reference ref = one_device_run(scene, 100);
     const Particles& pr = ref.particles;
     // Two devices: the second idle (the first steps alone, no exchange), then a split, then the
     // first idle, then a split again.
     Options o;
-    o.devices = spec_of(2);
+    o.devices = test::device_spec(2);
     testing::Seams seams;
     seams.cut_schedule = [](std::uint64_t step, std::size_t columns) {
         if (step < 25) return std::vector<std::size_t>{0, columns, columns};
@@ -141,9 +126,9 @@ TEST_CASE("devices going idle and back give the same particles as one device") {
 TEST_CASE("migration under stress: cuts move every step") {
     const auto devs = test::devices();
     REQUIRE(devs.size() >= 2);
-    const Scene scene = small_dam(0.146 / 6);
+    const Scene scene = test::small_dam(0.146 / 6);
     Options o;
-    o.devices = spec_of(std::min<std::size_t>(3, devs.size()));
+    o.devices = test::device_spec(std::min<std::size_t>(3, devs.size()));
     const std::size_t D = std::min<std::size_t>(3, devs.size());
     // Cuts sweep back and forth across the domain, one or two columns a step, sometimes leaving a
     // device with a single column or none at all.
@@ -182,10 +167,10 @@ TEST_CASE("a particle next to a cut sees the neighbours it sees on one device") 
     const auto devs = test::devices();
     REQUIRE(devs.size() >= 2);
     const double dp = 0.146 / 8;
-    const Scene scene = small_dam(dp);
+    const Scene scene = test::small_dam(dp);
     Options one, two;
-    one.devices = spec_of(1);
-    two.devices = spec_of(2);
+    one.devices = test::device_spec(1);
+    two.devices = test::device_spec(2);
     two.balance = BalanceMode::off;  // equal widths: the cut is in the middle of the fluid column's tank
     Simulation a(scene, one), b(scene, two);
     a.step();
@@ -234,7 +219,7 @@ TEST_CASE("a device slowed k times ends with about 1/k of the other's particles"
     f.max = {0.8, 7.5 * dp, 0.1};
     scene.fluids.push_back(f);
     Options o;
-    o.devices = spec_of(2);
+    o.devices = test::device_spec(2);
     // The fine form keeps the force pass near 50 ms on pocl: with the CPU form (35x faster) pocl's
     // fixed cost per launch dominates, and the balancer rightly idles the slowed device instead.
     o.interaction = Interaction::fine;

@@ -6,6 +6,7 @@
 #include "clsph/simulation.hpp"
 #include "render/renderer.hpp"
 #include "surface/marching_cubes.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -70,7 +71,7 @@ TEST_CASE("a sphere's silhouette covers pi r^2 pixels within 2 % on every device
             coloured += im.colour[p] != 0;
         }
         MESSAGE(covered << " pixels covered, pi r^2 = " << expected);
-        CHECK(std::abs(covered / expected - 1) < 0.02);
+        CHECK(std::abs(static_cast<double>(covered) / expected - 1) < 0.02);
         CHECK(coloured == covered);  // every covered pixel got its colour in the second pass
     }
 }
@@ -131,21 +132,7 @@ TEST_CASE("the default camera frames the domain: every corner of the domain is i
 TEST_SUITE("multi_bitwise") {
 TEST_CASE("the same scene rendered on one device and on three gives the same image within a few pixels") {
     REQUIRE(test::devices().size() >= 3);
-    Scene s;
-    s.physics.dp = 0.01;
-    s.physics.hdp = 2.0;
-    s.physics.coefsound = 10;
-    s.domain.min = {-0.04, -0.04, -0.04};
-    s.domain.max = {0.34, 0.14, 0.34};
-    s.domain.split_axis = 0;
-    BoxWalls w;
-    w.min = {0, 0, 0};
-    w.max = {0.3, 0.1, 0.3};
-    s.walls.push_back(w);
-    FluidBlock fb;
-    fb.min = {0, 0, 0};
-    fb.max = {0.1, 0.1, 0.2};
-    s.fluids.push_back(fb);
+    Scene s = test::small_tank(0.1, 0.2);
     SolidBox obstacle;
     obstacle.min = {0.2, 0.03, 0};
     obstacle.max = {0.24, 0.07, 0.04};
@@ -154,9 +141,7 @@ TEST_CASE("the same scene rendered on one device and on three gives the same ima
     s.render.height = 300;
     auto image_on = [&](std::size_t count) {
         Options o;
-        std::string spec;
-        for (std::size_t i = 0; i < count; ++i) spec += (i ? "," : "") + std::to_string(test::devices()[i]->info().index);
-        o.devices = spec;
+        o.devices = test::device_spec(count);
         Simulation sim(s, o);
         for (int i = 0; i < 30; ++i) sim.step();
         return sim.render(sim.surface(), camera_for(s));

@@ -7,6 +7,7 @@
 #include "clsph/simulation.hpp"
 #include "surface/marching_cubes.hpp"
 #include "surface/mc_table.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -276,40 +277,13 @@ TEST_CASE("a mesh written as PLY reads back exactly; as VTP its arrays are where
 }
 
 namespace {
-Scene resting_block() {
-    Scene s;
-    s.name = "resting block";
-    s.physics.dp = 0.01;
-    s.physics.hdp = 2.0;
-    s.physics.coefsound = 10;
-    s.domain.min = {-0.04, -0.04, -0.04};
-    s.domain.max = {0.34, 0.14, 0.34};
-    s.domain.split_axis = 0;
-    BoxWalls w;
-    w.min = {0, 0, 0};
-    w.max = {0.3, 0.1, 0.3};
-    s.walls.push_back(w);
-    FluidBlock f;
-    f.min = {0, 0, 0};
-    f.max = {0.3, 0.1, 0.15};
-    s.fluids.push_back(f);
-    return s;
-}
-
-std::string device_list(std::size_t count) {
-    std::string s;
-    const auto devs = test::devices();
-    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
-    return s;
-}
-
 }  // namespace
 
 TEST_SUITE("surface") {
 TEST_CASE("the free surface of a fluid block at rest: closed, its top flat at the right height") {
-    const Scene scene = resting_block();
+    const Scene scene = test::small_tank(0.3, 0.15);
     Options o;
-    o.devices = device_list(1);
+    o.devices = test::device_spec(1);
     Simulation sim(scene, o);
     const TriangleMesh m = sim.surface();
     REQUIRE(m.triangles.size() > 100);
@@ -355,10 +329,10 @@ TEST_CASE("the free surface of a fluid block at rest: closed, its top flat at th
 TEST_SUITE("multi_bitwise") {
 TEST_CASE("the same scene meshed on one device and on three gives the same triangles") {
     REQUIRE(test::devices().size() >= 3);
-    const Scene scene = resting_block();
+    const Scene scene = test::small_tank(0.3, 0.15);
     Options one, three;
-    one.devices = device_list(1);
-    three.devices = device_list(3);
+    one.devices = test::device_spec(1);
+    three.devices = test::device_spec(3);
     Simulation a(scene, one), b(scene, three);
     for (int i = 0; i < 5; ++i) {
         a.step();

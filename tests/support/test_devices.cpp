@@ -44,4 +44,11 @@ std::string validation_device_spec() {
         if (d.name.find("pthread") != std::string::npos) return std::to_string(d.index);
     return "default";
 }
+std::string device_spec(std::size_t count) {
+    const auto devs = devices();
+    std::string s;
+    for (std::size_t i = 0; i < count && i < devs.size(); ++i) s += (i ? "," : "") + std::to_string(devs[i]->info().index);
+    return s;
+}
+
 }  // namespace clsph::test

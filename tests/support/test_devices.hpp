@@ -23,6 +23,9 @@ std::mt19937_64 rng(std::uint64_t salt);
 }  // namespace clsph::test
 
 namespace clsph::test {
+// The --devices spec of the first `count` test devices (fewer if there are fewer).
+std::string device_spec(std::size_t count);
+
 // The selection spec of the device long validation runs use: pocl's threaded CPU device when it
 // is present (the fastest CPU device in CI), otherwise the default selection.
 std::string validation_device_spec();
