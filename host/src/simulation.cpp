@@ -332,21 +332,7 @@ TriangleMesh Simulation::surface(const SurfaceOptions& options) {
                           [&] { return surface::extract_surface(*m.driver, m.grid, m.scene, options); });
 }
 
-Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const {
-    ProbePoints p;
-    const double z0 = scene.domain.min[2], z1 = scene.domain.max[2];
-    p.dz = 0.5 * scene.physics.dp;
-    for (const auto& pr : scene.probes) {
-        p.first.push_back(p.points.size());
-        if (pr.kind == Probe::Kind::pressure) {
-            p.points.push_back(pr.point);
-        } else {
-            for (double z = z0; z <= z1 + 1e-12; z += p.dz) p.points.push_back({pr.point[0], pr.point[1], z});
-        }
-    }
-    p.first.push_back(p.points.size());
-    return p;
-}
+Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const { return probes::sample_points(scene); }
 
 Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
     auto& m = *impl_;
@@ -357,9 +343,7 @@ std::vector<ProbeSample> Simulation::sample_probes() {
     auto& m = *impl_;
     const auto pp = m.probe_points();
     const auto& points = pp.points;
-    const auto& first = pp.first;
-    const double dz = pp.dz;
-    std::vector<std::array<float, 2>> sums;
+    std::vector<probes::Sums> sums;
     if (m.ahead && m.probed_step == m.info.step && m.probed.size() == points.size()) {
         sums = m.probed;  // computed in the queue after this probe step (the step ahead)
     } else {
@@ -368,27 +352,10 @@ std::vector<ProbeSample> Simulation::sample_probes() {
                         "callback the probes are available only on probe steps (run.probe_every)");
         sums = cl_rt::guarded("sampling the probes", "", [&] { return m.driver->probe(points); });
     }
+    // What each probe measures: probes/gauges.hpp (the same for sums from the step ahead).
+    const auto values = probes::values(m.scene, pp, sums);
     std::vector<ProbeSample> out;
-    for (std::size_t i = 0; i < m.scene.probes.size(); ++i) {
-        const auto& pr = m.scene.probes[i];
-        ProbeSample s{pr.name, m.info.time, std::numeric_limits<double>::quiet_NaN()};
-        if (pr.kind == Probe::Kind::pressure) {
-            const auto& v = sums[first[i]];
-            // Shepard-normalised; a point with too little fluid around it reads as no value.
-            if (v[0] > 0.1f) s.value = v[1] / v[0];
-        } else {
-            // Highest z where the fluid fraction sum V W crosses 1/2, interpolated linearly.
-            for (std::size_t k = first[i + 1] - 1; k > first[i]; --k) {
-                const double f_hi = sums[k][0], f_lo = sums[k - 1][0];
-                if (f_lo >= 0.5 && f_hi < 0.5) {
-                    const double zlo = points[k - 1][2];
-                    s.value = zlo + dz * (f_lo - 0.5) / (f_lo - f_hi);
-                    break;
-                }
-            }
-        }
-        out.push_back(s);
-    }
+    for (std::size_t i = 0; i < m.scene.probes.size(); ++i) out.push_back({m.scene.probes[i].name, m.info.time, values[i]});
     return out;
 }
 

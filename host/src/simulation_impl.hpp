@@ -12,6 +12,7 @@
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
 #include "multi/slab_driver.hpp"
+#include "probes/gauges.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -69,11 +70,7 @@ struct Simulation::Impl {
     // with the error a blow-up gives. Event clamps do not count: only the CFL step is checked.
     void check_dt_collapse();
     // The probe points of the scene, each probe's first, and the height probes' spacing.
-    struct ProbePoints {
-        std::vector<std::array<double, 3>> points;
-        std::vector<std::size_t> first;
-        double dz = 0;
-    };
+    using ProbePoints = probes::Points;
     ProbePoints probe_points() const;
 
     // The step ahead (step_ahead.cpp).

@@ -60,6 +60,8 @@ const std::vector<Mistake> both_paths = {
     {"overlapping blocks", [](clsph::Scene& s) { s.fluids.push_back({{0.3, 0, 0}, {0.5, 0.2, 0.2}, {0, 0, 0}, {}}); }, "fluid[1]: overlaps fluid[0]"},
     {"a zero frame interval", [](clsph::Scene& s) { s.run.output_every = 0; }, "run.output_every: must be a finite time > 0 s"},
     {"a probe outside", [](clsph::Scene& s) { s.probes[0].point = {5, 0, 0}; }, "probes[0].point: is outside the domain"},
+    {"a sensor facing nowhere", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{0, 0, 0}; }, "probes[0].normal: must not be the zero vector"},
+    {"a sensor of no size", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{1, 0, 0}, s.probes[0].size = 0; }, "probes[0].size: must be the sensor's diameter"},
     {"a missing mesh", [](clsph::Scene& s) { s.meshes.push_back({"/no/such/mesh.obj", 1.0, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/no/such/mesh.obj\": No such file or directory"},
     {"a mesh that is a device", [](clsph::Scene& s) { s.meshes.push_back({"/dev/zero", 1.0, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
 };
@@ -73,6 +75,10 @@ const std::vector<Mistake> cpp_only = {
     {"NaN surface", [](clsph::Scene& s) { s.fluids[0].surface = nan; }, "fluid[0].surface: must be a finite height"},
     {"NaN block corner", [](clsph::Scene& s) { s.fluids[0].max[1] = nan; }, "fluid[0].max: expected 3 finite numbers"},
     {"NaN probe point", [](clsph::Scene& s) { s.probes[0].point[0] = nan; }, "probes[0].point: expected 3 finite numbers"},
+    {"NaN sensor normal", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{nan, 1, 0}; }, "probes[0].normal: expected 3 finite numbers"},
+    {"NaN sensor size", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{1, 0, 0}, s.probes[0].size = nan; }, "probes[0].size: must be the sensor's diameter"},
+    // The resolved scene writes no face for a height probe, so only code can give one.
+    {"a height probe with a face", [](clsph::Scene& s) { s.probes[0].kind = clsph::Probe::Kind::height, s.probes[0].normal = clsph::Vec3{0, 0, 1}; }, "probes[0].normal: a height probe has no face"},
     {"NaN domain", [](clsph::Scene& s) { s.domain.max[0] = nan; }, "domain.max: expected 3 finite numbers"},
     {"infinite end time", [](clsph::Scene& s) { s.run.end_time = std::numeric_limits<double>::infinity(); }, "run.end_time: must be a finite time >= 0 s"},
     {"NaN fixed dt", [](clsph::Scene& s) { s.run.fixed_dt = nan; }, "run.fixed_dt: must be a finite time >= 0 s"},

@@ -23,7 +23,8 @@ const char* full_scene = R"({
     "meshes": []
   },
   "probes": [{"name": "P1", "kind": "pressure", "point": [0.1, 0.2, 0.05]},
-             {"name": "H1", "kind": "height", "point": [1.2, 0.2]}],
+             {"name": "H1", "kind": "height", "point": [1.2, 0.2]},
+             {"name": "S1", "kind": "pressure", "point": [0, 0.2, 0.1], "normal": [2, 0, 0], "size": 0.02}],
   "run": {"end_time": 0.75, "output_every": 0.05, "probe_every": 3}
 })";
 
@@ -58,9 +59,13 @@ TEST_CASE("every key of a scene file reaches the Scene") {
     CHECK(s.walls[0].layers == 2);
     REQUIRE(s.solids.size() == 1);
     CHECK(s.solids[0].layers == 0);
-    REQUIRE(s.probes.size() == 2);
+    REQUIRE(s.probes.size() == 3);
     CHECK(s.probes[1].kind == clsph::Probe::Kind::height);
     CHECK(s.probes[1].point == clsph::Vec3{1.2, 0.2, 0});
+    CHECK(!s.probes[0].normal.has_value());  // a point probe
+    CHECK(s.probes[0].size == clsph::Probe{}.size);
+    CHECK(s.probes[2].normal == clsph::Vec3{2, 0, 0});  // as given: normalised where it is used
+    CHECK(s.probes[2].size == 0.02);
     CHECK(s.run.end_time == 0.75);
     CHECK(s.run.output_every == 0.05);
     CHECK(s.run.probe_every == 3);
@@ -90,12 +95,18 @@ TEST_CASE("to_json writes every default and reads back to the same scene") {
     CHECK(back.physics.hdp == s.physics.hdp);
     CHECK(back.fluids[0].surface == s.fluids[0].surface);
     CHECK(back.walls[0].faces == s.walls[0].faces);
+    CHECK(back.probes[0].normal == s.probes[0].normal);
+    CHECK(back.probes[2].normal == s.probes[2].normal);
+    CHECK(back.probes[2].size == s.probes[2].size);
+    CHECK(text.find(R"("normal": [)") != std::string::npos);
+    CHECK(text.find(R"("size": 0.02)") != std::string::npos);
 
     // A minimal scene: the defaults become explicit keys.
     const clsph::Scene minimal = clsph::Scene::from_file(corpus("valid_base.json"));
     const std::string resolved = minimal.to_json();
     for (const char* key : {"\"hdp\"", "\"kernel\": \"wendland\"", "\"diffusion\": \"fourtakas\"", "\"periodic\"",
-                            "\"split_axis\": \"auto\"", "\"velocity\"", "\"surface\": null", "\"output_every\""})
+                            "\"split_axis\": \"auto\"", "\"velocity\"", "\"surface\": null", "\"output_every\"",
+                            "\"normal\": null"})
         CHECK_MESSAGE(resolved.find(key) != std::string::npos, key);
     CHECK(clsph::Scene::from_json_text(resolved, "resolved.json").to_json() == resolved);
 }

@@ -59,4 +59,49 @@ inline Scene small_tank(double fluid_x, double fluid_top) {
     return s;
 }
 
+// Gauges on still water: a periodic slice (16 dp: 4 grid cells) of a tank (walls at x = 0 and
+// x = 0.2, the floor at z = 0) with water 0.1 m deep at dp 0.01 (support 4 dp), and a drop (a
+// block of 8 x 7 x 6 particles, its top at 0.3 m) held above the middle. Probes, in order: the
+// height gauge under the drop, a dry gauge in the left wall, pressure sensors 2 cm across on the
+// left wall (depth 0.05 m, normal [1, 0, 0]) and on the right wall (depth 0.04 m, normal
+// [-3, 0, 0]: any length), and a point probe at depth 0.05 m mid-tank.
+struct GaugeTank {
+    static constexpr double dp = 0.01, width = 0.2, slice = 16 * dp, depth = 0.1, drop_top = 0.3;
+    static Scene scene() {
+        Scene s;
+        s.name = "gauge tank";
+        s.physics.dp = dp;
+        s.physics.coefsound = 10;
+        s.domain.min = {-3 * dp, 0, -3 * dp};
+        s.domain.max = {width + 3 * dp, slice, 0.4};
+        s.domain.periodic = {false, true, false};
+        BoxWalls w;
+        w.max = {width, slice, 0.4};
+        w.faces = x_min | x_max | z_min;
+        s.walls.push_back(w);
+        FluidBlock water;
+        water.max = {width, slice - 0.5 * dp, depth};
+        s.fluids.push_back(water);
+        FluidBlock drop;
+        drop.min = {0.06, 0.05, drop_top - 5 * dp};
+        drop.max = {0.13, 0.11, drop_top};
+        s.fluids.push_back(drop);
+        auto probe = [&](const char* name, Probe::Kind kind, Vec3 point, std::optional<Vec3> normal = {}) {
+            Probe p;
+            p.name = name;
+            p.kind = kind;
+            p.point = point;
+            p.normal = normal;
+            p.size = 0.02;
+            s.probes.push_back(p);
+        };
+        probe("h_under_drop", Probe::Kind::height, {0.1, 0.08, 0});
+        probe("h_dry", Probe::Kind::height, {-0.02, 0.08, 0});
+        probe("p_left_wall", Probe::Kind::pressure, {0, 0.08, depth - 0.05}, Vec3{1, 0, 0});
+        probe("p_right_wall", Probe::Kind::pressure, {width, 0.08, depth - 0.04}, Vec3{-3, 0, 0});
+        probe("p_middle", Probe::Kind::pressure, {0.1, 0.08, depth - 0.05});
+        return s;
+    }
+};
+
 }  // namespace clsph::test

@@ -78,10 +78,16 @@ struct MeshObject {
     int layers = 3;
 };
 
+// A gauge (docs/scenes.md, probes). height: the water depth on the vertical line at (x, y), the
+// first fall of the fluid fraction through 1/2 from the domain's bottom up. pressure: at `point`,
+// or with a `normal`, a sensor: the disc of diameter `size` on the wall plane through `point`
+// (its centre) facing along `normal` (from the wall into the fluid), the mean pressure over it.
 struct Probe {
     enum class Kind { pressure, height } kind = Kind::pressure;
     std::string name;
-    Vec3 point{0, 0, 0};  // for height: x, y (z ignored)
+    Vec3 point{0, 0, 0};          // for height: x, y (z ignored)
+    std::optional<Vec3> normal;   // pressure only; any non-zero length (the direction is used)
+    double size = 0.009;          // m, the sensor's diameter (with a normal)
 };
 
 struct RunControl {

@@ -136,15 +136,35 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
                          [&](const Json& e, const std::string& path) { s.meshes.push_back(read_mesh(e, path, base_dir)); });
 }
 
+// A pressure sensor's face: `normal` (null, as the resolved scene writes it, or absent: a point
+// probe) and `size`, which means nothing without a normal, so it is an error there rather than
+// silently a point. A height probe is a line and has neither.
+void read_sensor_face(Fields& f, Probe& p) {
+    const Json* normal = f.find("normal");
+    const Json* size = f.find("size");
+    if (p.kind == Probe::Kind::height) {
+        const char* why = "a height probe has no face (normal and size are a pressure sensor's)";
+        if (normal && !normal->is_null()) key_error(f.path_of("normal"), why);
+        if (size) key_error(f.path_of("size"), why);
+        return;
+    }
+    if (normal && !normal->is_null()) p.normal = read_vec3(*normal, f.path_of("normal"));
+    if (size) {
+        if (!p.normal) key_error(f.path_of("size"), "a sensor's size needs its \"normal\" (without one the probe is a point)");
+        p.size = read_number(*size, f.path_of("size"));
+    }
+}
+
 void read_probes(const Json& v, Scene& s) {
     for_each_element(v, "probes", [&](const Json& e, const std::string& path) {
-        Fields f(e, path, {"name", "kind", "point"});
+        Fields f(e, path, {"name", "kind", "point", "normal", "size"});
         Probe p;
         p.kind = f.choice("kind", Probe::Kind::pressure, {{"pressure", Probe::Kind::pressure}, {"height", Probe::Kind::height}});
         const bool height = p.kind == Probe::Kind::height;
         p.name = f.text("name", (height ? "height" : "pressure") + std::to_string(s.probes.size()));
         p.point = read_point(f.require("point"), f.path_of("point"), height ? 2 : 3);
         if (height) p.point[2] = 0;  // a height probe is a vertical line at (x, y)
+        read_sensor_face(f, p);
         s.probes.push_back(p);
     });
 }

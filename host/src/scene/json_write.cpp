@@ -111,6 +111,11 @@ Json scene_to_document(const Scene& s) {
         const bool height = p.kind == Probe::Kind::height;
         j["kind"] = height ? "height" : "pressure";
         j["point"] = height ? Json::array({p.point[0], p.point[1]}) : vec(p.point);
+        if (!height) {
+            // The face as given (normalised only where it is used); null: a point probe.
+            j["normal"] = p.normal ? vec(*p.normal) : Json(nullptr);
+            if (p.normal) j["size"] = p.size;
+        }
         probes.push_back(j);
     }
     doc["probes"] = probes;

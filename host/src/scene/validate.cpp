@@ -61,6 +61,20 @@ bool valid_probe_name(const std::string& name) {
     return name != "." && name != "..";
 }
 
+// A pressure sensor's face. A normal of any length is accepted and normalised where it is used
+// (a direction is what it says); zero has no direction, so it is an error, as is a size that is
+// not a positive length.
+void check_sensor_face(const Probe& pr, const std::string& key) {
+    require(pr.kind == Probe::Kind::pressure, key + ".normal",
+            "a height probe has no face (normal and size are a pressure sensor's)");
+    const Vec3& n = *pr.normal;
+    require_finite(n, key + ".normal");
+    require(n[0] != 0 || n[1] != 0 || n[2] != 0, key + ".normal",
+            "must not be the zero vector (it points from the wall into the fluid)");
+    require(std::isfinite(pr.size) && pr.size > 0, key + ".size",
+            "must be the sensor's diameter, a finite length > 0 m (got " + num(pr.size) + ")");
+}
+
 // Lattice points of a fluid block (0 when dp is larger than the block, or the block lies between
 // lattice points), as a double so that absurd blocks do not overflow.
 double lattice_points(const FluidBlock& f, double dp) {
@@ -292,6 +306,7 @@ void Scene::validate() const {
         require_finite(pr.point, key + ".point");
         require(inside(pr.kind == Probe::Kind::height ? Vec3{pr.point[0], pr.point[1], domain.min[2]} : pr.point),
                 key + ".point", "is outside the domain");
+        if (pr.normal) check_sensor_face(pr, key);
     }
 
     // Estimated particle counts before sampling, so an absurd dp fails fast and clearly.
