@@ -11,6 +11,9 @@ ColumnSums::ColumnSums(const ColumnProfile& profile)
     : work_(profile.work.size() + 1, 0.0), particles_(profile.work.size() + 1, 0) {
   if (profile.particles.size() != profile.work.size())
     throw std::invalid_argument("balance: column profile needs work and particles per column");
+  if (!profile.cut_allowed.empty() && profile.cut_allowed.size() != profile.work.size() + 1)
+    throw std::invalid_argument("balance: cut_allowed needs an entry per cut position (columns + 1)");
+  cut_allowed_ = profile.cut_allowed;
   for (std::size_t c = 0; c < profile.work.size(); ++c) {
     // Negative work would break the monotone prefix sums the search relies on.
     work_[c + 1] = work_[c] + std::max(0.0, profile.work[c]);
@@ -118,6 +121,7 @@ class Search {
   bool allowed(std::size_t cut, std::size_t c) const {
     if (cut == 0) return c == 0;
     if (cut == devices_.size()) return c == columns_.columns();
+    if (!columns_.cut_allowed(c)) return false;
     if (windows_.empty()) return true;
     return windows_[cut].lo <= c && c <= windows_[cut].hi;
   }

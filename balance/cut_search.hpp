@@ -44,8 +44,13 @@ class ColumnSums {
   bool fits(std::size_t begin, std::size_t end, double work_limit, std::size_t capacity) const;
   // Last end >= begin for which fits() holds.
   std::size_t furthest_end(std::size_t begin, double work_limit, std::size_t capacity) const;
+  // Whether an inner cut may sit before column c (ColumnProfile::cut_allowed).
+  bool cut_allowed(std::size_t c) const {
+    return cut_allowed_.empty() || c == 0 || c >= columns() || cut_allowed_[c] != 0;
+  }
 
  private:
+  std::vector<char> cut_allowed_;
   std::vector<double> work_;             // work_[c] = work of columns [0, c)
   std::vector<std::size_t> particles_;  // same for particles
 };

@@ -20,6 +20,10 @@ struct DeviceSample {
 struct ColumnProfile {
   std::vector<double> work;
   std::vector<std::size_t> particles;
+  // Where a cut may go: cut_allowed[c] for a cut before column c (columns + 1 entries, 0 and
+  // columns always allowed); empty: anywhere. The host forbids cuts that would leave a slab
+  // without data it needs (boundary ghost nodes beyond the halo, clsph's mDBC).
+  std::vector<char> cut_allowed;
 };
 
 // Cost of a boundary particle relative to a fluid one. With dynamic boundary conditions boundary

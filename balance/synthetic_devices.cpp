@@ -99,7 +99,7 @@ ColumnProfile dam_break_profile(std::size_t columns, std::size_t front,
     height[c] = 1.0 - 0.8 * x * x;  // the collapsing column: high at the back, thin at the front
     height_sum += height[c];
   }
-  ColumnProfile profile{std::vector<double>(columns), std::vector<std::size_t>(columns)};
+  ColumnProfile profile{std::vector<double>(columns), std::vector<std::size_t>(columns), {}};
   for (std::size_t c = 0; c < columns; ++c) {
     const std::size_t fluid =
         c < front ? static_cast<std::size_t>(std::lround(static_cast<double>(fluid_particles) *

@@ -7,11 +7,14 @@
 //                difference, linearised: |rho0 g dz / B| < 1e-3 within a kernel support)
 //   pressure     a_i = -sum_j m (p_i + p_j) / (rho_i rho_j) grad_i W_ij              (fluid i)
 //   viscosity    Monaghan (1992): Pi_ij = -alpha c0 mu_ij / rho_mean, mu = h v_ij.x_ij / (r^2 + eta^2),
-//                when v_ij.x_ij < 0, fluid-fluid pairs only
+//                when v_ij.x_ij < 0; alpha between fluid particles, alpha_wall between a fluid
+//                particle and a boundary particle (at rest: wall friction; 0 by default)
 //   gravity      added to fluid accelerations
 // Dynamic boundary particles (DBC, Crespo et al. 2007) get only drho/dt: they do not move.
 // -DCLSPH_SUMMATION: fluid densities come from the summation pass (density.cl), so fluid drho = 0.
 // -DCLSPH_DIFFUSION=0|1|2: none, Molteni-Colagrossi, Fourtakas.
+// -DCLSPH_MDBC: boundary particles take their density from ghost nodes (mdbc.cl), not from the
+// continuity equation: their drho/dt is 0 and the fine form skips them.
 #include "sph_kernel.h"
 
 #ifndef CLSPH_DIFFUSION
@@ -83,19 +86,26 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
     if (st->fluid) {
         const float p_j = pressure_of(sp, rho_j);
         float coef = (st->p + p_j) / (st->rho * rho_j);
-        if (nb->fluid && vd < 0.0f) {
+        if (vd < 0.0f) {
             const float mu = sp->h * vd / (r2 + sp->eta2);
-            coef += -sp->visc_alpha * sp->c0 * mu / (0.5f * (st->rho + rho_j));
+            coef += -(nb->fluid ? sp->visc_alpha : sp->visc_alpha_wall) * sp->c0 * mu / (0.5f * (st->rho + rho_j));
         }
         st->acc += (-m * coef * f) * d;
     }
 }
 
 #define PAIR(st, self, nb, i, j, rij, r2) force_pair(&(st), &sp, &(self), &(nb), (rij), (r2))
+#ifdef CLSPH_MDBC
+#define BOUNDARY_DRHO(drho) 0.0f
+#define SKIP_PARTICLE(self) (((ids[i] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID))
+#define STORE_SKIPPED(i) accel[i] = (float4)(0.0f)
+#else
+#define BOUNDARY_DRHO(drho) (drho)
+#endif
 #define STATE_STORE(st, i)                                                                      \
     do {                                                                                        \
-        float4 out = (float4)(0.0f, 0.0f, 0.0f, (st).drho);                                     \
-        if ((st).fluid) out.xyz = (st).acc + (float3)(sp.gx, sp.gy, sp.gz);                     \
+        float4 out = (float4)(0.0f, 0.0f, 0.0f, BOUNDARY_DRHO((st).drho));                      \
+        if ((st).fluid) out = (float4)((st).acc + (float3)(sp.gx, sp.gy, sp.gz), (st).drho);    \
         accel[i] = out;                                                                         \
     } while (0)
 
@@ -134,9 +144,10 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
 #endif
     const float p_j = pressure_of(sp, rho_j);
     floatV coef = (st->p + p_j) / (st->rho * rho_j);
-    if (fluid_j) {
+    {
+        const float alpha = fluid_j ? sp->visc_alpha : sp->visc_alpha_wall;
         const floatV mu = sp->h * vd / (r2 + sp->eta2);
-        coef += select((floatV)(0.0f), (-sp->visc_alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
+        coef += select((floatV)(0.0f), (-alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
     }
     const floatV s = mf * coef;  // a_i += -m coef F (x_i - x_j) = m coef F rij
     st->ax += s * rx;
@@ -179,7 +190,7 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
         vstoreV((st).fluid, 0, tfluid);                                                     \
         for (uint l = 0; l < (count); ++l)                                                  \
             accel[(base) + l] = tfluid[l] ? (float4)(tax[l] + sp.gx, tay[l] + sp.gy, taz[l] + sp.gz, tdrho[l]) \
-                                          : (float4)(0.0f, 0.0f, 0.0f, tdrho[l]);           \
+                                          : (float4)(0.0f, 0.0f, 0.0f, BOUNDARY_DRHO(tdrho[l])); \
     } while (0)
 #endif
 

@@ -18,6 +18,9 @@
 //   PAIR(st, self, nb, i, j, rij, r2)   statement, for every j (i itself included) with r2 < support2;
 //                            rij = x_j - x_i
 //   STATE_STORE(st, i)       statement writing the result for particle i
+// and may define (the fine scheme only; the others compute every particle):
+//   SKIP_PARTICLE(self)      true for a particle i that needs no neighbour loop (index i in scope)
+//   STORE_SKIPPED(i)         statement writing such a particle's result
 // Particles [first, last) are computed; neighbours come from all of [0, n_active) (ghosts included).
 #include "grid.h"
 
@@ -101,6 +104,12 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
     NEIGHBOUR_T self;
     self.pos = pos[i];
     LOAD_NEIGHBOUR(self, i);
+#ifdef SKIP_PARTICLE
+    if (SKIP_PARTICLE(self)) {
+        STORE_SKIPPED(i);
+        return;
+    }
+#endif
     const uint key_i = pos_key(self.pos);
     STATE_T st;
     STATE_INIT(st, i, self);

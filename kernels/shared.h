@@ -35,11 +35,18 @@ typedef struct {
     clsph_float rho0, inv_rho0, eos_b;   // Tait: p = B ((rho/rho0)^7 - 1)
     clsph_float c0;                      // speed of sound
     clsph_float visc_alpha, eta2;        // Monaghan viscosity alpha, 0.01 h^2
+    clsph_float visc_alpha_wall;         // the same between fluid and boundary particles
     clsph_float diffusion;               // delta h c0 (0: off)
     clsph_float hydro;                   // rho0^2 / (gamma B), for the Fourtakas hydrostatic term
     clsph_float gx, gy, gz;              // gravity
     clsph_float rho_min, rho_max;        // allowed density band (absolute)
 } SphParams;
+
+// mDBC (kernels/mdbc.cl): the smallest |det| of the dimensionless correction matrix (the identity,
+// det 1, for a full support) for which the first-order interpolation is used; below it, Shepard.
+// A ghost node near a corner sees a quarter of its support (det ~ 0.004 at h = 1.3 dp), where the
+// first-order gradient is unreliable.
+#define CLSPH_MDBC_DET 1e-3f
 
 // Particle type bits, in the top bits of the 32-bit id.
 #define CLSPH_TYPE_SHIFT 30u

@@ -16,7 +16,7 @@ using namespace clsph::balance;
 namespace {
 
 ColumnProfile uniform_profile(std::size_t columns, double work, std::size_t particles) {
-  return {std::vector<double>(columns, work), std::vector<std::size_t>(columns, particles)};
+  return {std::vector<double>(columns, work), std::vector<std::size_t>(columns, particles), {}};
 }
 
 // Smallest makespan over every placement (cut vectors enumerated recursively).
@@ -35,6 +35,7 @@ double brute_force_makespan(const std::vector<SlabCost>& devices, const ColumnSu
     }
     for (std::size_t c = cuts[k - 1]; c <= n; ++c) {
       if (!windows.empty() && (c < windows[k].lo || c > windows[k].hi)) continue;
+      if (!columns.cut_allowed(c)) continue;
       cuts[k] = c;
       place(k + 1);
     }
@@ -86,6 +87,11 @@ TEST_CASE("cut search: matches brute force on random small instances") {
       d.capacity_particles = unit(random) < 0.3 ? 5 + random() % 60 : 0;
     }
     const std::size_t min_columns = 1 + random() % 3;
+    // Some instances forbid cuts at some columns (the host's mDBC halos: ColumnProfile::cut_allowed).
+    if (unit(random) < 0.3) {
+      profile.cut_allowed.assign(n + 1, 1);
+      for (std::size_t c = 1; c < n; ++c) profile.cut_allowed[c] = unit(random) < 0.4 ? 0 : 1;
+    }
     std::vector<CutWindow> windows;
     const std::vector<std::size_t> start = equal_width_cuts(count, n);
     if (unit(random) < 0.3) {
@@ -97,10 +103,12 @@ TEST_CASE("cut search: matches brute force on random small instances") {
     const double expected = brute_force_makespan(devices, columns, min_columns, windows);
     const Plan plan = place_cuts(devices, columns, min_columns, start, windows);
     INFO("instance " << instance << ": " << count << " devices, " << n << " columns, min "
-                     << min_columns << (windows.empty() ? "" : ", windowed"));
+                     << min_columns << (windows.empty() ? "" : ", windowed")
+                     << (profile.cut_allowed.empty() ? "" : ", forbidden cuts"));
     REQUIRE(plan.feasible == (expected < std::numeric_limits<double>::infinity()));
     if (!plan.feasible) continue;
     REQUIRE(respects_guard_rails(devices, columns, min_columns, plan.cuts));
+    for (std::size_t c : plan.cuts) REQUIRE(columns.cut_allowed(c));
     for (std::size_t k = 0; k < windows.size(); ++k) {
       REQUIRE(plan.cuts[k] >= windows[k].lo);
       REQUIRE(plan.cuts[k] <= windows[k].hi);

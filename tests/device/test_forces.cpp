@@ -27,6 +27,7 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
     const double B = c0 * c0 * rho0 / 7.0, m = rho0 * ph.dp * ph.dp * ph.dp;
     const double eta2 = 0.01 * h * h, dcoef = ph.delta * h * c0, hydro = rho0 * rho0 / (7.0 * B);
     auto pres = [&](double rho) { return B * (std::pow(rho / rho0, 7.0) - 1); };
+    const bool mdbc = s.boundary_method == BoundaryMethod::mdbc;
     const std::size_t n = p.size();
     Expect e;
     e.value.assign(n, {0, 0, 0, 0});
@@ -64,13 +65,15 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
             }
             if (fi) {
                 double coef = (pi + pres(rj)) / (ri * rj);                        // pressure
-                if (fj && vd < 0) coef += -ph.alpha * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));  // viscosity
+                if (vd < 0)  // viscosity: alpha between fluid particles, alpha_wall with a boundary particle
+                    coef += -(fj ? ph.alpha : ph.alpha_wall) * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));
                 ax += -m * coef * f * d[0];
                 ay += -m * coef * f * d[1];
                 az += -m * coef * f * d[2];
                 scale += std::abs(m * coef * f) * r;
             }
         }
+        if (!fi && mdbc) drho = 0;  // mDBC: boundary densities come from ghost nodes, not continuity
         if (fi) {
             ax += ph.gravity[0];
             ay += ph.gravity[1];
@@ -129,15 +132,17 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         DensityMode density;
         double hdp;  // 1.5: cells of 27 lattice sites; 2.2: of ~85, so cells take several 32-particle chunks
         int reach;   // the grid's reach (1: cells of a support; 2: half a support along a and b)
+        bool mdbc;   // boundaries.method mdbc (boundary particles get no drho/dt)
     };
-    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1},
-                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5, 1},
-                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1},
-                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation, 1.5, 1},
-                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 1},
-                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2, 1},
-                              {Diffusion::fourtakas, 0.5, KernelType::cubic_spline, DensityMode::continuity, 2.2, 2},
-                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2}};
+    const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false},
+                              {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5, 1, false},
+                              {Diffusion::fourtakas, 0.5, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false},
+                              {Diffusion::fourtakas, 0.02, KernelType::wendland_c2, DensityMode::summation, 1.5, 1, false},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 1, false},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2, 1, false},
+                              {Diffusion::fourtakas, 0.5, KernelType::cubic_spline, DensityMode::continuity, 2.2, 2, false},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true},
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs)
@@ -154,6 +159,9 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 s.physics.c0 = 15.0;
                 s.physics.diffusion = c.diffusion;
                 s.physics.alpha = c.alpha;
+                s.physics.alpha_wall = 0.5 * c.alpha;
+                s.boundary_method = c.mdbc ? BoundaryMethod::mdbc : BoundaryMethod::dbc;
+                CAPTURE(c.mdbc);
                 s.physics.kernel = c.kernel;
                 s.physics.density = c.density;
                 s.domain.min = {0, 0, 0};

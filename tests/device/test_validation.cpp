@@ -3,6 +3,7 @@
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
 #include "support/scenes.hpp"
+#include "support/surge_front.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -28,25 +29,7 @@ std::array<double, 3> momentum(const Particles& p, double m) {
     return P;
 }
 
-// The validation dam break: a 4L tank (the front reaches 3.6 L by T = 3, so no far wall is needed).
-Scene dam_break(double L, double dp) { return test::dam_break_slice(L, dp, 4.0, x_min | z_min); }
-
-std::vector<std::array<double, 2>> koshizuka_oka() {
-    const char* env = std::getenv("CLSPH_DATA_DIR");  // where the build-time path does not exist
-    const std::string path = std::string(env && *env ? env : CLSPH_SHARED_DATA) + "/dam_break_koshizuka_oka_1996.csv";
-    std::ifstream in(path);
-    REQUIRE_MESSAGE(in.good(), "cannot read " << path);
-    std::vector<std::array<double, 2>> rows;
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
-        std::istringstream ls(line);
-        double t, z;
-        char comma;
-        if (ls >> t >> comma >> z) rows.push_back({t, z});
-    }
-    return rows;
-}
+Scene dam_break(double L, double dp) { return test::surge_dam_break(L, dp); }
 
 }  // namespace
 
@@ -198,33 +181,9 @@ TEST_CASE("gauges on still water, sampled every step: the height ignores a drop 
 }
 
 TEST_CASE("dam break surge front against Koshizuka & Oka (1996)") {
-    const double L = 0.146, g = 9.81;
-    Scene s = dam_break(L, L / 20);
-    Simulation sim(s, validation_options());
-    const auto data = koshizuka_oka();
-    REQUIRE(data.size() >= 5);
-    const double t_scale = std::sqrt(2 * g / L);
-    double sum2 = 0;
-    std::size_t n = 0;
-    for (const auto& row : data) {
-        const double T = row[0], Z = row[1];
-        if (T > 3.0 + 1e-9) break;
-        sim.run_until(T / t_scale);
-        const auto p = sim.particles();
-        double front = 0;
-        for (std::size_t i = 0; i < p.size(); ++i)
-            if (p.type[i] == ParticleType::fluid) front = std::max(front, p.position[i][0]);
-        const double z = front / L;
-        MESSAGE("T = " << T << ": Z = " << z << " (experiment " << Z << ")");
-        sum2 += (z - Z) * (z - Z) / (Z * Z);
-        ++n;
-    }
-    const double rms = std::sqrt(sum2 / double(n));
-    MESSAGE("dam break: RMS relative error of the surge front " << rms * 100 << " % over " << n << " points, "
-                                                                 << sim.info().step << " steps, "
-                                                                 << sim.info().particles << " particles, "
-                                                                 << sim.info().wall_seconds << " s");
-    CHECK(rms <= 0.10);
+    const double L = 0.146;
+    Simulation sim(dam_break(L, L / 20), validation_options());
+    CHECK(test::surge_front_rms(sim, L) <= 0.10);
 }
 
 TEST_CASE("a blow-up stops with a typed error naming step, time and particle") {

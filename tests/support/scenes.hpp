@@ -18,7 +18,7 @@ inline Scene dam_break_slice(double L, double dp, double tank_l, unsigned faces)
     s.domain.periodic = {false, true, false};
     BoxWalls w;
     w.min = {0, 0, 0};
-    w.max = {tank_l * L, depth, 2.2 * L};
+    w.max = {tank_l * L, depth - dp, 2.2 * L};  // along the period: its last column one dp before it
     w.faces = faces;
     s.walls.push_back(w);
     FluidBlock f;

@@ -17,6 +17,9 @@ using Vec3 = std::array<double, 3>;
 enum class KernelType { wendland_c2, cubic_spline };
 enum class DensityMode { continuity, summation };
 enum class Diffusion { none, molteni_colagrossi, fourtakas };
+// How boundary particles get their density: dbc, the continuity equation (Crespo et al. 2007);
+// mdbc, from a ghost node mirrored into the fluid (English et al. 2021, docs/scenes.md).
+enum class BoundaryMethod { dbc, mdbc };
 
 struct PhysicsParams {
     double dp = 0.01;                 // particle spacing (m)
@@ -30,6 +33,7 @@ struct PhysicsParams {
     double coefsound = 20.0;          // c0 = coefsound * sqrt(g * H), H = initial fluid height
     double c0 = 0.0;                  // speed of sound (m/s); 0: from coefsound
     double alpha = 0.02;              // Monaghan artificial viscosity, fluid-fluid
+    double alpha_wall = 0.0;          // the same between fluid and boundary particles (wall friction)
     Vec3 gravity{0.0, 0.0, -9.81};    // m/s^2
     double cfl = 0.2;                 // Courant number of the adaptive time step
     double density_min = 0.7;         // a density outside [min, max] * rho0 stops the run
@@ -114,6 +118,7 @@ struct Scene {
     std::vector<BoxWalls> walls;
     std::vector<SolidBox> solids;
     std::vector<MeshObject> meshes;
+    BoundaryMethod boundary_method = BoundaryMethod::dbc;  // JSON: boundaries.method
     std::vector<Probe> probes;
     RunControl run;
     RenderSettings render;

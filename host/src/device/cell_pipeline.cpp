@@ -191,6 +191,7 @@ void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n, cl_rt::
 std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
     auto& d = device_;
     cells_ = 0;
+    counted_on_device_ = false;
     if (n == 0) return 0;
     const std::size_t k = cell_count_host_.empty() ? 0 : cell_count_host_[0];
     reserve_cells(k);
@@ -216,6 +217,7 @@ void CellPipeline::enqueue_tables_bounded(ParticleStore& ps, std::size_t n, cons
     set_args(ranges_bounded_k_, cap, grid_.params(), cell_count_, cell_key_, cell_start_, ranges_);
     d.launch("cells.ranges", ranges_bounded_k_, cap, wg_);
     cells_ = cap;
+    counted_on_device_ = true;
 }
 
 void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::EventSet& done) {

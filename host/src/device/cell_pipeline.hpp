@@ -127,6 +127,9 @@ public:
     const cl_rt::Buffer& settle_counters() const { return counters_; }
 
     std::size_t cells() const { return cells_; }
+    // Whether the count of non-empty cells is only on the device (cell_count()[0]: the step ahead's
+    // bounded tables), cells() then being the tables' capacity.
+    bool counted_on_device() const { return counted_on_device_; }
     const cl_rt::Buffer& cell_key() const { return cell_key_; }
     const cl_rt::Buffer& cell_start() const { return cell_start_; }
     const cl_rt::Buffer& ranges() const { return ranges_; }
@@ -143,6 +146,7 @@ private:
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
     cl::Kernel tables_bounded_k_, ranges_bounded_k_;
     cl_rt::Buffer cell_count_;
+    bool counted_on_device_ = false;
     double cell_headroom_ = 0.25;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;

@@ -27,6 +27,7 @@ SphParams make_sph_params(const Scene& scene) {
     sp.c0 = static_cast<float>(c0);
     sp.visc_alpha = static_cast<float>(ph.alpha);
     sp.eta2 = static_cast<float>(0.01 * h * h);
+    sp.visc_alpha_wall = static_cast<float>(ph.alpha_wall);
     sp.diffusion = static_cast<float>(ph.diffusion == Diffusion::none ? 0.0 : ph.delta * h * c0);
     sp.hydro = static_cast<float>(ph.rho0 * ph.rho0 / (ph.gamma * B));
     sp.gx = static_cast<float>(ph.gravity[0]);
@@ -55,6 +56,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
       sp_(make_sph_params(scene)),
       form_(interaction_for(form, device)),
       summation_(scene.physics.density == DensityMode::summation),
+      mdbc_(scene.boundary_method == BoundaryMethod::mdbc),
       wg_(device.work_group_size(128)),
       coarse_wg_(device.work_group_size(64)) {
     std::string opts = grid.kernel_options();
@@ -64,6 +66,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
                                                                                      : 2;
     std::string interaction = opts + " -DCLSPH_DIFFUSION=" + std::to_string(diffusion);
     if (summation_) interaction += " -DCLSPH_SUMMATION";
+    if (mdbc_) interaction += " -DCLSPH_MDBC";
     switch (form_) {
     case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
@@ -77,6 +80,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
     kick_k_ = device.kernel("integrate.cl", "kick", integ);
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
+    if (mdbc_) mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
     probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
     kick_groups_ = std::max<std::size_t>(1, std::min<std::size_t>(256, device.info().compute_units * 4));
     partials_ = device.alloc(kick_groups_ * 4 * sizeof(float), "kick reductions");
@@ -140,6 +144,27 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     forces_k_.setArg(9, ps.id.get());
     forces_k_.setArg(10, out.get());
     launch("sph.forces", forces_k_);
+    if (mdbc_) boundary_densities(ps, cells);
+}
+
+void Physics::set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id) {
+    ghost_count_ = by_id.size();
+    std::vector<float> raw(4 * std::max<std::size_t>(ghost_count_, 1), 0.0f);
+    for (std::size_t i = 0; i < ghost_count_; ++i)
+        for (int k = 0; k < 3; ++k) raw[4 * i + k] = by_id[i][k];
+    ghost_ = cl_rt::Buffer();
+    ghost_ = device_.alloc(raw.size() * sizeof(float), "mDBC ghost nodes");
+    device_.write(ghost_, raw.data(), raw.size());
+}
+
+void Physics::boundary_densities(ParticleStore& ps, const CellPipeline& cells) {
+    const std::size_t n = ps.ranges.owned;
+    if (n == 0 || !mdbc_) return;
+    if (!ghost_) set_ghost_nodes({});
+    cl_rt::set_args(mdbc_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), cells.cells(), cells.cell_count(),
+                    cl_uint{cells.counted_on_device() ? 1u : 0u}, grid_.params(), sp_, ps.pos, cells.cell_key(),
+                    cells.cell_start(), ps.velrho, ps.id, ghost_, ghost_count_, halt_);
+    device_.launch("sph.mdbc", mdbc_k_, n, wg_);
 }
 
 void Physics::kick_drift(ParticleStore& ps, double dt) {

@@ -51,8 +51,14 @@ public:
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
     // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
-    // ps.accel.
+    // ps.accel. With mDBC, then the owned boundary particles' densities from their ghost nodes
+    // (kernels/mdbc.cl), in place: the next step's forces use them.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
+    // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp).
+    bool mdbc() const { return mdbc_; }
+    void set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id);
+    // The mDBC pass alone (forces() runs it).
+    void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
     void kick_drift(ParticleStore& ps, double dt);
     // The step ahead: the same first kick with the dt the device's clock chose (begin_step).
     void kick_drift_on_clock(ParticleStore& ps);
@@ -93,6 +99,10 @@ private:
     SphParams sp_{};
     Interaction form_;
     bool summation_;
+    bool mdbc_;
+    cl::Kernel mdbc_k_;
+    cl_rt::Buffer ghost_;
+    std::size_t ghost_count_ = 0;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;

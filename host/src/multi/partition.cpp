@@ -43,9 +43,23 @@ std::vector<std::size_t> Partition::cuts(const std::vector<Slab>& slabs) {
     return c;
 }
 
-void Partition::set_cuts(std::vector<Slab>& slabs, const std::vector<std::size_t>& c) const {
-    if (c.size() != slabs.size() + 1 || c.front() != 0 || c.back() != columns() || !std::is_sorted(c.begin(), c.end()))
+void Partition::set_cuts(std::vector<Slab>& slabs, const std::vector<std::size_t>& wanted) const {
+    if (wanted.size() != slabs.size() + 1 || wanted.front() != 0 || wanted.back() != columns() ||
+        !std::is_sorted(wanted.begin(), wanted.end()))
         throw Error("cuts must be devices + 1 non-decreasing columns from 0 to the column count");
+    std::vector<std::size_t> c = wanted;
+    if (!cut_allowed_.empty()) {
+        // Forced cuts (tests, the off and static modes, a checkpoint's) may land where a cut may
+        // not: the nearest allowed column, nearer the start on a tie; 0 and the end always are.
+        for (std::size_t k = 1; k + 1 < c.size(); ++k) {
+            std::size_t at = c[k];
+            for (std::size_t r = 0; !cut_allowed_[at]; ++r) {
+                if (c[k] >= r && cut_allowed_[c[k] - r]) at = c[k] - r;
+                else if (c[k] + r <= columns() && cut_allowed_[c[k] + r]) at = c[k] + r;
+            }
+            c[k] = std::max(at, c[k - 1]);
+        }
+    }
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         slabs[d].first_col = c[d];
         slabs[d].end_col = c[d + 1];
@@ -71,7 +85,48 @@ Census Partition::census(const Particles& p) {
         c.boundary[col] += !fluid;
     }
     boundary_per_column_ = c.boundary;
+    c.profile.cut_allowed = cut_allowed_;
     return c;
+}
+
+void Partition::restrict_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
+                              double support) {
+    const std::size_t n_col = columns();
+    const int s_axis = grid_.axis(0);
+    const auto& dom = grid_.domain();
+    const std::uint32_t invalid = grid_.params().invalid_key;
+    // Per column, the lowest and highest column any of its boundary particles needs.
+    std::vector<std::size_t> lo(n_col), hi(n_col);
+    for (std::size_t c = 0; c < n_col; ++c) lo[c] = hi[c] = c;
+    auto column_at = [&](std::array<double, 3> x) {
+        x[s_axis] = std::clamp(x[s_axis], dom.lo[s_axis], dom.hi[s_axis]);
+        std::array<float, 3> off{};
+        const std::uint32_t key = grid_.locate(x, off);
+        return key == invalid ? std::size_t{0} : column_of(key);
+    };
+    std::size_t reach = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.type[i] != ParticleType::boundary) continue;
+        std::array<float, 3> off{};
+        const std::uint32_t key = grid_.locate(p.position[i], off);
+        if (key == invalid) continue;
+        const std::size_t c = column_of(key);
+        auto g = p.position[i];
+        for (int k = 0; k < 3; ++k) g[k] += ghost_offsets[i][k];
+        auto below = g, above = g;
+        below[s_axis] -= support;
+        above[s_axis] += support;
+        lo[c] = std::min(lo[c], column_at(below));
+        hi[c] = std::max(hi[c], column_at(above));
+        reach = std::max({reach, c - lo[c], hi[c] - c});
+    }
+    // A cut before column k: the slab after it holds from column k - 1, the one before it up to k.
+    cut_allowed_.assign(n_col + 1, 1);
+    for (std::size_t k = 1; k < n_col; ++k) {
+        const std::size_t from = k > reach + 1 ? k - reach - 1 : 0, to = std::min(n_col, k + reach + 1);
+        for (std::size_t c = from; c < to && cut_allowed_[k]; ++c)
+            if ((c >= k && lo[c] + 1 < k) || (c < k && hi[c] > k)) cut_allowed_[k] = 0;
+    }
 }
 
 std::vector<Particles> Partition::split(const Particles& p, const Census& census, const std::vector<Slab>& slabs) const {
@@ -88,6 +143,7 @@ balance::ColumnProfile Partition::column_profile(const std::vector<Slab>& slabs)
     // The sorted keys put each column in one contiguous range, so its count is a difference of two
     // column positions. Boundary particles never move, so the fluid count is the rest.
     balance::ColumnProfile p;
+    p.cut_allowed = cut_allowed_;
     p.work.assign(columns(), 0.0);
     p.particles.assign(columns(), 0);
     for (const auto& s : slabs) {

@@ -9,6 +9,7 @@
 #include "device/grid.hpp"
 #include "multi/slab.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -41,8 +42,15 @@ public:
     std::vector<Need> needs(const std::vector<Slab>& slabs) const;
     std::size_t owner_of(std::uint32_t key, const std::vector<Slab>& slabs) const;
     static std::vector<std::size_t> cuts(const std::vector<Slab>& slabs);
-    // Checks `cuts` (devices + 1 non-decreasing columns from 0 to the column count) and sets them.
+    // Checks `cuts` (devices + 1 non-decreasing columns from 0 to the column count) and sets them;
+    // a cut where restrict_cuts() forbids one moves to the nearest column where it may go.
     void set_cuts(std::vector<Slab>& slabs, const std::vector<std::size_t>& cuts) const;
+    // mDBC: a boundary particle's ghost node (particle + offset) interpolates from the fluid within
+    // a support of it, which may lie two columns from the particle's; its owner holds only one halo
+    // column either side. Cuts are forbidden where a slab would then lack a column one of its
+    // boundary particles needs (the balancer is told through ColumnProfile::cut_allowed).
+    void restrict_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets, double support);
+    const std::vector<char>& cut_allowed() const { return cut_allowed_; }
 
     Census census(const Particles& p);
     // Each slab's particles for the first upload; particles outside the domain go to the first,
@@ -55,6 +63,7 @@ public:
 private:
     const device::Grid& grid_;
     std::vector<std::size_t> boundary_per_column_;
+    std::vector<char> cut_allowed_;  // empty: anywhere
 };
 
 }  // namespace clsph::multi

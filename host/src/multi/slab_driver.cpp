@@ -2,6 +2,7 @@
 
 #include "clsph/error.hpp"
 #include "multi/calibration.hpp"
+#include "scene/ghost_nodes.hpp"
 
 #include <algorithm>
 
@@ -17,7 +18,7 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
     // GPU); the balancer does so only on a calibration or enough measured steps (balance/options.hpp).
     bo.allow_idle = true;
     balancer_ = std::make_unique<balance::Balancer>(D, partition_.columns(), bo);
-    const Census census = partition_.census(p);
+    Census census = partition_.census(p);
     slabs_.resize(D);
     for (std::size_t d = 0; d < D; ++d) {
         Slab& s = slabs_[d];
@@ -29,6 +30,25 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
         s.cells->set_cell_headroom(options.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
+    }
+    if (slabs_[0].physics->mdbc()) {
+        // mDBC: every device holds each boundary particle's ghost-node offset, by id (they are
+        // static: boundary particles never move).
+        const auto offsets = scene::ghost_node_offsets(scene, p);
+        std::vector<std::array<float, 3>> by_id;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            if (p.type[i] != ParticleType::boundary) continue;
+            const std::size_t id = p.id[i] & CLSPH_ID_MASK;
+            if (id >= by_id.size()) by_id.resize(id + 1, {0.0f, 0.0f, 0.0f});
+            by_id[id] = offsets[i];
+        }
+        for (auto& s : slabs_) s.physics->set_ghost_nodes(by_id);
+        // The next step's forces read boundary densities each owner computed: the owner must hold
+        // the fluid around each of its particles' ghost nodes (Partition::restrict_cuts).
+        if (D > 1) {
+            partition_.restrict_cuts(p, offsets, scene.physics.support());
+            census.profile.cut_allowed = partition_.cut_allowed();
+        }
     }
     if (D > 1 && bo.mode == balance::Mode::dynamic) calibrate(slabs_, partition_, p, census, *balancer_);
     std::vector<std::size_t> first{0, partition_.columns()};

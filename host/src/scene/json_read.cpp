@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 PhysicsParams read_physics(const Json& v) {
     Fields f(v, "physics",
-             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha",
+             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha", "alpha_wall",
               "gravity", "cfl", "density_min", "density_max"});
     PhysicsParams p;
     p.dp = read_number(f.require("dp"), "physics.dp");
@@ -37,6 +37,7 @@ PhysicsParams read_physics(const Json& v) {
     p.coefsound = f.number("coefsound", p.coefsound);
     p.c0 = f.number("c0", p.c0);
     p.alpha = f.number("alpha", p.alpha);
+    p.alpha_wall = f.number("alpha_wall", p.alpha_wall);
     p.gravity = f.vec3("gravity", p.gravity);
     p.cfl = f.number("cfl", p.cfl);
     p.density_min = f.number("density_min", p.density_min);
@@ -111,7 +112,8 @@ MeshObject read_mesh(const Json& v, const std::string& path, const std::string& 
 }
 
 void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
-    Fields f(v, "boundaries", {"walls", "boxes", "meshes"});
+    Fields f(v, "boundaries", {"walls", "boxes", "meshes", "method"});
+    s.boundary_method = f.choice("method", s.boundary_method, {{"dbc", BoundaryMethod::dbc}, {"mdbc", BoundaryMethod::mdbc}});
     if (const Json* walls = f.find("walls"))
         for_each_element(*walls, "boundaries.walls", [&](const Json& e, const std::string& path) {
             Fields w(e, path, {"min", "max", "faces", "layers"});

@@ -41,6 +41,7 @@ Json physics(const PhysicsParams& p) {
     j["coefsound"] = p.coefsound;
     j["c0"] = p.c0;
     j["alpha"] = p.alpha;
+    j["alpha_wall"] = p.alpha_wall;
     j["gravity"] = vec(p.gravity);
     j["cfl"] = p.cfl;
     j["density_min"] = p.density_min;
@@ -78,6 +79,7 @@ Json boundaries(const Scene& s) {
     j["walls"] = walls;
     j["boxes"] = boxes;
     j["meshes"] = meshes;
+    j["method"] = s.boundary_method == BoundaryMethod::mdbc ? "mdbc" : "dbc";
     return j;
 }
 

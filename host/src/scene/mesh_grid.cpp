@@ -11,11 +11,11 @@ double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[
 Vec3 along(const Vec3& a, const Vec3& d, double t) { return {a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]}; }
 double dist_sq(const Vec3& a, const Vec3& b) { return dot(sub(a, b), sub(a, b)); }
 
-double segment_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
+Vec3 segment_closest(const Vec3& p, const Vec3& a, const Vec3& b) {
     const Vec3 ab = sub(b, a);
     const double len = dot(ab, ab);
     const double t = len > 0 ? std::clamp(dot(sub(p, a), ab) / len, 0.0, 1.0) : 0.0;
-    return dist_sq(p, along(a, ab, t));
+    return along(a, ab, t);
 }
 
 // Builds a CSR table: cell -> triangles, from a function giving each triangle's cell range.
@@ -38,30 +38,36 @@ void bounds(const TriangleMesh& m, Vec3& lo, Vec3& hi) {
 
 }  // namespace
 
-double point_triangle_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
     // Which feature of the triangle (vertex, edge or face) is closest, from the signs of the
     // projections of p onto the edges (the Voronoi regions of the triangle).
     const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return dist_sq(p, a);
+    if (d1 <= 0 && d2 <= 0) return a;
     const Vec3 bp = sub(p, b);
     const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return dist_sq(p, b);
+    if (d3 >= 0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return dist_sq(p, along(a, ab, d1 / (d1 - d3)));
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return along(a, ab, d1 / (d1 - d3));
     const Vec3 cp = sub(p, c);
     const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return dist_sq(p, c);
+    if (d6 >= 0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return dist_sq(p, along(a, ac, d2 / (d2 - d6)));
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return along(a, ac, d2 / (d2 - d6));
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return dist_sq(p, along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
     const double sum = va + vb + vc;
-    if (!(std::abs(sum) > 0))  // collinear vertices: no face, only edges
-        return std::min({segment_distance_sq(p, a, b), segment_distance_sq(p, b, c), segment_distance_sq(p, a, c)});
+    if (!(std::abs(sum) > 0)) {  // collinear vertices: no face, only edges
+        const Vec3 e[3] = {segment_closest(p, a, b), segment_closest(p, b, c), segment_closest(p, a, c)};
+        const double d[3] = {dist_sq(p, e[0]), dist_sq(p, e[1]), dist_sq(p, e[2])};
+        return e[std::min_element(d, d + 3) - d];
+    }
     const double v = vb / sum, w = vc / sum;
-    return dist_sq(p, {a[0] + v * ab[0] + w * ac[0], a[1] + v * ab[1] + w * ac[1], a[2] + v * ab[2] + w * ac[2]});
+    return {a[0] + v * ab[0] + w * ac[0], a[1] + v * ab[1] + w * ac[1], a[2] + v * ab[2] + w * ac[2]};
+}
+
+double point_triangle_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    return dist_sq(p, closest_point_on_triangle(p, a, b, c));
 }
 
 TriangleGrid::TriangleGrid(const TriangleMesh& mesh, double cell) : mesh_(mesh), cell_(cell) {
@@ -102,6 +108,11 @@ std::int64_t TriangleGrid::cell_index(double x, int axis) const {
 }
 
 bool TriangleGrid::any_within(const Vec3& p, double r) const {
+    Vec3 unused{};
+    return nearest(p, r, unused, true);
+}
+
+bool TriangleGrid::nearest(const Vec3& p, double r, Vec3& closest, bool any) const {
     std::int64_t a[3], b[3];
     for (int k = 0; k < 3; ++k) {
         // Cells wholly beyond the grid hold no triangle: a point farther than r from the box is done.
@@ -109,18 +120,25 @@ bool TriangleGrid::any_within(const Vec3& p, double r) const {
         a[k] = cell_index(p[k] - r, k);
         b[k] = cell_index(p[k] + r, k);
     }
-    const double r2 = r * r;
+    double best = r * r;
+    bool found = false;
     for (auto i = a[0]; i <= b[0]; ++i)
         for (auto j = a[1]; j <= b[1]; ++j)
             for (auto l = a[2]; l <= b[2]; ++l) {
                 const auto c = static_cast<std::size_t>((i * n_[1] + j) * n_[2] + l);
                 for (auto s = start_[c]; s < start_[c + 1]; ++s) {
                     const auto& t = mesh_.triangles[items_[s]];
-                    if (point_triangle_distance_sq(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]) < r2)
-                        return true;
+                    const Vec3 q = closest_point_on_triangle(p, mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+                    const double d2 = dist_sq(p, q);
+                    if (d2 < best) {
+                        if (any) return true;
+                        best = d2;
+                        closest = q;
+                        found = true;
+                    }
                 }
             }
-    return false;
+    return found;
 }
 
 VerticalRays::VerticalRays(const TriangleMesh& mesh, double cell) : mesh_(mesh), cell_(cell) {

@@ -8,7 +8,8 @@
 
 namespace clsph::scene {
 
-// Squared distance from p to the triangle abc (closest point by Voronoi region of the triangle).
+// The point of the triangle abc closest to p (by Voronoi region of the triangle), and its squared distance.
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 double point_triangle_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 class TriangleGrid {
@@ -16,9 +17,12 @@ public:
     // `cell` is a hint: the grid grows it when the mesh's box would need too many cells.
     TriangleGrid(const TriangleMesh& mesh, double cell);
     bool any_within(const Vec3& p, double r) const;
+    // The closest point of the surface to p, among triangles closer than r; false when none is.
+    bool nearest(const Vec3& p, double r, Vec3& closest) const { return nearest(p, r, closest, false); }
 
 private:
     std::int64_t cell_index(double x, int axis) const;
+    bool nearest(const Vec3& p, double r, Vec3& closest, bool any) const;
     const TriangleMesh& mesh_;
     Vec3 origin_{};
     double cell_ = 1.0;

@@ -179,6 +179,7 @@ void Scene::validate() const {
     require(std::isfinite(p.c0) && p.c0 >= 0, "physics.c0", "must be >= 0 (0: derived from coefsound)");
     require(p.cfl > 0 && p.cfl <= 1.0, "physics.cfl", "must be in (0, 1]");
     require(p.alpha >= 0 && std::isfinite(p.alpha), "physics.alpha", "must be >= 0");
+    require(p.alpha_wall >= 0 && std::isfinite(p.alpha_wall), "physics.alpha_wall", "must be >= 0");
     require(p.delta >= 0 && std::isfinite(p.delta), "physics.delta", "must be >= 0");
     require_finite(p.gravity, "physics.gravity");
     require(p.density_min < 1.0 && p.density_max > 1.0 && p.density_min > 0 && std::isfinite(p.density_max),
