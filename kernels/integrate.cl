@@ -102,3 +102,58 @@ __kernel void commit_density(const uint first, const uint last, __global const f
     if (i >= last) return;
     velrho[i].w = rho[i];
 }
+
+// Symplectic (position Verlet predictor-corrector, as DualSPHysics offers), two force passes a step:
+//   predict:  x_h = x_n + v_n dt/2,  v_h = v_n + a_n dt/2,  rho_h = rho_n + drho_n dt/2
+//   [exchange, cell pass, forces at (x_h, v_h, rho_h) -> a_h, drho_h]
+//   correct:  v_{n+1} = v_n + a_h dt,  x_{n+1} = x_h + v_{n+1} dt/2  (= x_n + (v_n + v_{n+1}) dt/2),
+//             rho_{n+1} = rho_n (2 - eps) / (2 + eps),  eps = -(drho_h / rho_h) dt
+//   [exchange, cell pass, forces at the new state -> a_{n+1}: the next predictor's, and the CFL step]
+// v_n and rho_n are recovered from the half-step values and a_n (still in `accel`, reordered with
+// the particles), so no copy of the old state is kept. Boundary particles do not move; their
+// density follows the same rule, never below rho0 (with mDBC their drho is 0: unchanged here).
+__kernel void symplectic_predict(const uint first, const uint last, __global const float* dt_f, const float rho0,
+                                 const uint invalid_key, __global float4* pos, __global float4* velrho,
+                                 __global const float4* accel, __global const uint* ids, __global const uint* halt) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last || *halt != 0u) return;
+    float4 p = pos[i];
+    if (as_uint(p.w) == invalid_key) return;
+    const float hdt = 0.5f * dt_f[0];
+    float4 vr = velrho[i];
+    const float4 a = accel[i];
+    if (is_fluid(ids[i])) {
+        p.xyz += vr.xyz * hdt;
+        pos[i] = p;
+        vr.xyz += a.xyz * hdt;
+        vr.w += a.w * hdt;
+    } else {
+        vr.w = fmax(vr.w + a.w * hdt, rho0);
+    }
+    velrho[i] = vr;
+}
+
+__kernel void symplectic_correct(const uint first, const uint last, __global const float* dt_f, const float rho0,
+                                 const uint invalid_key, __global float4* pos, __global float4* velrho,
+                                 __global const float4* accel, __global const float4* accel_half,
+                                 __global const uint* ids, __global const uint* halt) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last || *halt != 0u) return;
+    float4 p = pos[i];
+    if (as_uint(p.w) == invalid_key) return;
+    const float dt = dt_f[0], hdt = 0.5f * dt;
+    float4 vr = velrho[i];
+    const float4 a0 = accel[i], ah = accel_half[i];
+    const float rho_n = vr.w - a0.w * hdt;
+    const float eps = -(ah.w / vr.w) * dt;
+    const float rho = rho_n * (2.0f - eps) / (2.0f + eps);
+    if (is_fluid(ids[i])) {
+        const float3 v = vr.xyz - a0.xyz * hdt + ah.xyz * dt;
+        p.xyz += v * hdt;
+        pos[i] = p;
+        vr = (float4)(v, rho);
+    } else {
+        vr.w = fmax(rho, rho0);
+    }
+    velrho[i] = vr;
+}

@@ -20,6 +20,9 @@ enum class Diffusion { none, molteni_colagrossi, fourtakas };
 // How boundary particles get their density: dbc, the continuity equation (Crespo et al. 2007);
 // mdbc, from a ghost node mirrored into the fluid (English et al. 2021, docs/scenes.md).
 enum class BoundaryMethod { dbc, mdbc };
+// Time integration: Leap-frog (kick-drift-kick, one force pass per step) or Symplectic (position
+// Verlet predictor-corrector, two force passes per step; docs/scenes.md).
+enum class Integrator { leapfrog, symplectic };
 
 struct PhysicsParams {
     double dp = 0.01;                 // particle spacing (m)
@@ -36,6 +39,7 @@ struct PhysicsParams {
     double alpha_wall = 0.0;          // the same between fluid and boundary particles (wall friction)
     Vec3 gravity{0.0, 0.0, -9.81};    // m/s^2
     double cfl = 0.2;                 // Courant number of the adaptive time step
+    Integrator integrator = Integrator::leapfrog;
     double density_min = 0.7;         // a density outside [min, max] * rho0 stops the run
     double density_max = 1.3;
 

@@ -57,6 +57,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
       form_(interaction_for(form, device)),
       summation_(scene.physics.density == DensityMode::summation),
       mdbc_(scene.boundary_method == BoundaryMethod::mdbc),
+      symplectic_(scene.physics.integrator == Integrator::symplectic),
       wg_(device.work_group_size(128)),
       coarse_wg_(device.work_group_size(64)) {
     std::string opts = grid.kernel_options();
@@ -79,6 +80,10 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
     kick_drift_k_ = device.kernel("integrate.cl", "kick_drift", integ);
     kick_k_ = device.kernel("integrate.cl", "kick", integ);
+    if (symplectic_) {
+        predict_k_ = device.kernel("integrate.cl", "symplectic_predict", integ);
+        correct_k_ = device.kernel("integrate.cl", "symplectic_correct", integ);
+    }
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
     if (mdbc_) mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
     probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
@@ -178,6 +183,24 @@ void Physics::kick_drift_on_clock(ParticleStore& ps) {
     cl_rt::set_args(kick_drift_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), dt_f_, sp_.rho0,
                     grid_.params().invalid_key, ps.pos, ps.velrho, ps.accel, ps.id, halt_);
     device_.launch("sph.kick_drift", kick_drift_k_, n, wg_);
+}
+
+void Physics::predict(ParticleStore& ps, double dt) {
+    write_dt(dt);
+    const std::size_t n = ps.ranges.owned;
+    if (n == 0) return;
+    cl_rt::set_args(predict_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), dt_f_, sp_.rho0,
+                    grid_.params().invalid_key, ps.pos, ps.velrho, ps.accel, ps.id, halt_);
+    device_.launch("sph.symplectic_predict", predict_k_, n, wg_);
+}
+
+void Physics::correct(ParticleStore& ps, const cl_rt::Buffer& half, double dt) {
+    write_dt(dt);
+    const std::size_t n = ps.ranges.owned;
+    if (n == 0) return;
+    cl_rt::set_args(correct_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), dt_f_, sp_.rho0,
+                    grid_.params().invalid_key, ps.pos, ps.velrho, ps.accel, half, ps.id, halt_);
+    device_.launch("sph.symplectic_correct", correct_k_, n, wg_);
 }
 
 void Physics::enqueue_kick(ParticleStore& ps, double dt, cl_rt::EventSet& done) {

@@ -60,6 +60,11 @@ public:
     // The mDBC pass alone (forces() runs it).
     void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
     void kick_drift(ParticleStore& ps, double dt);
+    // Symplectic (kernels/integrate.cl): the predictor to the half step (accel holds a_n), and,
+    // after the half step's force pass wrote `half` (ps.scratch), the corrector to the full step.
+    bool symplectic() const { return symplectic_; }
+    void predict(ParticleStore& ps, double dt);
+    void correct(ParticleStore& ps, const cl_rt::Buffer& half, double dt);
     // The step ahead: the same first kick with the dt the device's clock chose (begin_step).
     void kick_drift_on_clock(ParticleStore& ps);
     // The second kick: combines the old (ps.accel) and new (ps.scratch) accelerations, then swaps
@@ -100,6 +105,8 @@ private:
     Interaction form_;
     bool summation_;
     bool mdbc_;
+    bool symplectic_;
+    cl::Kernel predict_k_, correct_k_;
     cl::Kernel mdbc_k_;
     cl_rt::Buffer ghost_;
     std::size_t ghost_count_ = 0;

@@ -10,7 +10,7 @@ namespace clsph::multi {
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
-    : partition_(grid), options_(options) {
+    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
     const std::size_t D = devices.size();
     balance::Options bo;
     bo.mode = options.balance;
@@ -91,10 +91,22 @@ StepOutcome SlabDriver::step(double dt) {
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
         rebalance();                               // cuts from the last step's force times, while the devices drift
     cl_rt::EventSet kicked;
-    const std::size_t removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
-        forces(d);                                 // once on each device's thread: the force pass,
-        kick(d, dt, kicked);                       // the second kick and its reductions
-    });
+    std::size_t removed = 0;
+    if (symplectic_) {                             // Symplectic: the predictor was the drift;
+        removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
+            forces(d);
+            correct(d, dt);                        // the corrector to the full step;
+        });
+        removed += exchange_->run([&](std::size_t d) {  // the positions moved again: forces there
+            forces(d);                             // (the next predictor's), and the reductions
+            kick(d, 0.0, kicked);
+        });
+    } else {
+        removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
+            forces(d);                             // once on each device's thread: the force pass,
+            kick(d, dt, kicked);                   // the second kick and its reductions
+        });
+    }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
     out.removed = removed;
     read_force_times();                            // the balancer's input for the next step
@@ -109,9 +121,18 @@ void SlabDriver::apply_seams() {
 
 void SlabDriver::drift(double dt) {
     for_each_device([&](std::size_t d) {
-        slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
+        if (symplectic_)
+            slabs_[d].physics->predict(*slabs_[d].store, dt);
+        else
+            slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
         slabs_[d].device->flush();
     });
+}
+
+void SlabDriver::correct(std::size_t d, double dt) {
+    Slab& s = slabs_[d];
+    s.physics->correct(*s.store, s.store->scratch, dt);
+    s.device->flush();
 }
 
 void SlabDriver::rebalance() {

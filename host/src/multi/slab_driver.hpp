@@ -56,7 +56,10 @@ public:
 
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
-    bool can_step_ahead() const { return slabs_.size() == 1 && slabs_[0].physics->has_clock(); }
+    // (Leap-frog only: a Symplectic step has two exchanges.)
+    bool can_step_ahead() const {
+        return slabs_.size() == 1 && slabs_[0].physics->has_clock() && !slabs_[0].physics->symplectic();
+    }
     void set_clock(double time, double next_dt, double event) { slabs_[0].physics->set_clock(time, next_dt, event); }
     void enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     // After a step halted on the cell tables' bound: tables grown to `cells`, the step again from
@@ -83,6 +86,7 @@ private:
     void rebalance();
     void forces(std::size_t d);
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
+    void correct(std::size_t d, double dt);
     StepOutcome reductions(cl_rt::EventSet& kicked);
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     void read_force_times();
@@ -97,6 +101,7 @@ private:
     std::unique_ptr<Exchange> exchange_;
     PhaseTotals phases_;
     std::uint64_t steps_ = 0;
+    bool symplectic_ = false;
     std::size_t removed_at_upload_ = 0;
 };
 

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 PhysicsParams read_physics(const Json& v) {
     Fields f(v, "physics",
-             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha", "alpha_wall",
+             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha", "alpha_wall", "integrator",
               "gravity", "cfl", "density_min", "density_max"});
     PhysicsParams p;
     p.dp = read_number(f.require("dp"), "physics.dp");
@@ -38,6 +38,8 @@ PhysicsParams read_physics(const Json& v) {
     p.c0 = f.number("c0", p.c0);
     p.alpha = f.number("alpha", p.alpha);
     p.alpha_wall = f.number("alpha_wall", p.alpha_wall);
+    p.integrator = f.choice("integrator", p.integrator,
+                            {{"leapfrog", Integrator::leapfrog}, {"symplectic", Integrator::symplectic}});
     p.gravity = f.vec3("gravity", p.gravity);
     p.cfl = f.number("cfl", p.cfl);
     p.density_min = f.number("density_min", p.density_min);

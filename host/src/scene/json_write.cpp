@@ -42,6 +42,7 @@ Json physics(const PhysicsParams& p) {
     j["c0"] = p.c0;
     j["alpha"] = p.alpha;
     j["alpha_wall"] = p.alpha_wall;
+    j["integrator"] = p.integrator == Integrator::symplectic ? "symplectic" : "leapfrog";
     j["gravity"] = vec(p.gravity);
     j["cfl"] = p.cfl;
     j["density_min"] = p.density_min;
