@@ -16,9 +16,11 @@ std::string frame_name(std::size_t index, const char* extension) {
 
 }  // namespace
 
-FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, bool csv, std::size_t max_in_flight)
+FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, bool csv, FrameFilter filter,
+                         std::size_t max_in_flight)
     : dir_(std::move(dir)),
       csv_(csv),
+      filter_(std::move(filter)),
       max_in_flight_(max_in_flight ? max_in_flight : 1),
       pvd_(dir_ + "/" + collection_name),
       thread_([this] { loop(); }) {}
@@ -39,6 +41,7 @@ void FrameWriter::resume_at(const std::vector<PvdEntry>& before, double time) {
 }
 
 void FrameWriter::submit(double time, Particles particles) {
+    particles = filter_.apply(std::move(particles));  // before queuing: a thinned frame waits in less memory
     std::unique_lock<std::mutex> lock(mutex_);
     // Frames in flight: queued plus the one being written.
     changed_.wait(lock, [&] { return error_ || queue_.size() + (busy_ ? 1 : 0) < max_in_flight_; });

@@ -6,6 +6,8 @@
 #include <clsph/io.hpp>
 #include <clsph/particles.hpp>
 
+#include "frame_filter.hpp"
+
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -20,7 +22,9 @@ namespace clsph::app {
 class FrameWriter {
 public:
     // Frames go to `dir`/frame_NNNNN.vtu (and .csv); the collection to `dir`/`collection_name`.
-    FrameWriter(std::string dir, const std::string& collection_name, bool csv, std::size_t max_in_flight = 2);
+    // `filter`: which particles each frame holds (--output-stride, --output-box).
+    FrameWriter(std::string dir, const std::string& collection_name, bool csv, FrameFilter filter = {},
+                std::size_t max_in_flight = 2);
     // clsph resume: the collection's frames up to `time` kept (the next frame is numbered after
     // them), the later ones dropped from it (their files are written over).
     void resume_at(const std::vector<PvdEntry>& before, double time);
@@ -54,6 +58,7 @@ private:
 
     std::string dir_;
     bool csv_;
+    FrameFilter filter_;
     std::size_t max_in_flight_;
     PvdWriter pvd_;  // used by the writer thread only, once started
     std::size_t submitted_ = 0;

@@ -57,6 +57,11 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--out", a.out, "output directory (default: out/<scene file name>)");
     run.add_option("--every", a.every, "simulated seconds between frames (default: the scene's run.output_every)");
     run.add_flag("--csv", a.csv, "also write every frame as CSV (id,type,x,y,z,vx,vy,vz,rho,p)");
+    run.add_option("--output-stride", a.output_stride, "frames (and CSV) hold every K-th particle by id (default 1: all)")
+        ->type_name("K");
+    run.add_option("--output-box", a.output_box, "frames (and CSV) hold only the particles inside this box")
+        ->expected(6)
+        ->type_name("XMIN YMIN ZMIN XMAX YMAX ZMAX");
     run.add_flag("--profile", a.profile, "time every kernel and print a per-kernel table at the end");
     run.add_flag("--synchronous", a.synchronous,
                  "wait for every step on the host (the step ahead off: dt, cell count and statistics read back per step)");

@@ -18,6 +18,8 @@ struct RunArgs {
     std::string balance = "dynamic";          // several devices: dynamic | static | off
     std::string balance_log;                  // several devices: the balancer's per-step CSV
     bool csv = false;
+    std::size_t output_stride = 1;            // --output-stride K: frames hold every K-th particle by id
+    std::vector<double> output_box;           // --output-box: frames hold the particles inside (6 numbers)
     bool profile = false;
     bool synchronous = false;                 // --synchronous: Options::synchronous
     bool dry_run = false;

@@ -29,6 +29,19 @@ int surface_command(const SurfaceArgs& args) {
     }
     if (!run.contains("scene") || !run["scene"].is_object()) throw Error(record + ": has no \"scene\" object");
     const Scene scene = Scene::from_json_text(run["scene"].dump(), record + ": scene");
+    // Frames thinned by --output-stride or --output-box hold a part of the fluid: its surface
+    // would be a wrong one (the run's own --surface meshes every particle).
+    if (run.contains("command_line") && run["command_line"].is_array()) {
+        const auto& argv = run["command_line"];
+        for (std::size_t i = 0; i < argv.size(); ++i) {
+            const std::string a = argv[i].is_string() ? argv[i].get<std::string>() : std::string();
+            const bool stride = a == "--output-stride" && i + 1 < argv.size() && argv[i + 1] != "1";
+            if (stride || a == "--output-box" || a.rfind("--output-stride=", 0) == 0 || a.rfind("--output-box=", 0) == 0)
+                throw Error("clsph " + std::string(args.render ? "render" : "surface") + ": the frames in " + args.dir +
+                            " hold part of the particles (" + a + "); a surface needs them all (clsph run --surface " +
+                            "meshes every particle while it runs)");
+        }
+    }
     std::string pvd;
     for (const auto& e : fs::directory_iterator(args.dir))
         if (e.path().extension() == ".pvd" && e.path().filename() != "surface.pvd") pvd = e.path().string();
