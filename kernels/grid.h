@@ -50,6 +50,25 @@ inline uint lower_bound_key(__global const uint* keys, const uint n, const uint 
     return lo;
 }
 
+// Particles [*begin, *end) of neighbour row r around the cell (s, a, b) of an arbitrary point (a
+// probe, a ghost node), found in the cell tables (`cells` non-empty cells) by binary search;
+// false when the row lies outside the domain. Axis a wraps where periodic.
+inline bool row_of_point(const GridParams g, const uint cells, __global const uint* cell_key,
+                         __global const uint* cell_start, const int s, const int a, const uint b, const uint r,
+                         uint* begin, uint* end) {
+    const int s2 = s + row_ds(r);
+    int a2 = a + row_da(r);
+    if (g.periodic_a) {
+        if (a2 < 0) a2 += (int)g.n_a;
+        if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+    }
+    if (s2 < 0 || s2 >= (int)g.n_s || a2 < 0 || a2 >= (int)g.n_a) return false;
+    const uint mid = make_key(g, (uint)s2, (uint)a2, b);
+    *begin = cell_start[lower_bound_key(cell_key, cells, mid - CLSPH_REACH)];
+    *end = cell_start[lower_bound_key(cell_key, cells, mid + CLSPH_REACH + 1u)];
+    return true;
+}
+
 // The key of a particle is kept in pos.w (as bits), next to its offset from the cell centre.
 inline uint pos_key(const float4 p) { return as_uint(p.w); }
 

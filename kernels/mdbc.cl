@@ -95,16 +95,8 @@ inline float mdbc_density(const uint i, const uint cells, const GridParams g, co
     const int s = (int)key_s(g, key), a = (int)key_a(g, key);
     const uint b = key_b(g, key);
     for (uint row = 0; row < ROWS; ++row) {
-        const int s2 = s + row_ds(row);
-        int a2 = a + row_da(row);
-        if (g.periodic_a) {
-            if (a2 < 0) a2 += (int)g.n_a;
-            if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
-        }
-        if (s2 < 0 || s2 >= (int)g.n_s || a2 < 0 || a2 >= (int)g.n_a) continue;
-        const uint mid = make_key(g, (uint)s2, (uint)a2, b);
-        const uint begin = cell_start[lower_bound_key(cell_key, cells, mid - CLSPH_REACH)];
-        const uint end = cell_start[lower_bound_key(cell_key, cells, mid + CLSPH_REACH + 1u)];
+        uint begin, end;
+        if (!row_of_point(g, cells, cell_key, cell_start, s, a, b, row, &begin, &end)) continue;
         for (uint j = begin; j < end; ++j) {
             if ((ids[j] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) continue;
             const float4 pj = pos[j];
