@@ -7,8 +7,9 @@
 
 namespace clsph::app {
 
-FrameFilter FrameFilter::from_options(std::size_t stride, const std::vector<double>& box) {
+FrameFilter FrameFilter::from_options(std::size_t stride, const std::vector<double>& box, const std::string& fields) {
     FrameFilter f;
+    f.fields = FrameFields::parse(fields, "--fields");
     if (stride < 1) throw Error("--output-stride: expected an integer K >= 1 (every K-th particle by id)");
     f.stride = stride;
     if (!box.empty()) {

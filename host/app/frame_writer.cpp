@@ -114,8 +114,8 @@ void FrameWriter::loop() {
 
 void FrameWriter::write(const Frame& frame) {
     const std::string vtu = frame_name(frame.index, "vtu");
-    write_vtu(dir_ + "/" + vtu, frame.particles);
-    if (csv_) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), frame.particles);
+    write_vtu(dir_ + "/" + vtu, frame.particles, filter_.fields);
+    if (csv_) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), frame.particles, filter_.fields);
     // The collection names a frame only once its file is complete, so ParaView (which may already
     // have the .pvd open) never follows it to a missing file.
     pvd_.add(frame.time, vtu);

@@ -59,6 +59,8 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_flag("--csv", a.csv, "also write every frame as CSV (id,type,x,y,z,vx,vy,vz,rho,p)");
     run.add_option("--output-stride", a.output_stride, "frames (and CSV) hold every K-th particle by id (default 1: all)")
         ->type_name("K");
+    run.add_option("--fields", a.fields, "the point data frames (and CSV) hold: all, or a list of id,type,velocity,density,pressure (positions always)")
+        ->type_name("LIST");
     run.add_option("--output-box", a.output_box, "frames (and CSV) hold only the particles inside this box")
         ->expected(6)
         ->type_name("XMIN YMIN ZMIN XMAX YMAX ZMAX");

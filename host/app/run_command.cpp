@@ -79,7 +79,7 @@ public:
                               interaction_forms(sim), sim.scene().to_json(), resume ? resume->start_time : std::string(),
                               resume ? resume->resumes : std::vector<std::string>{}},
                   sim.scene().probes, resume ? &resume->point : nullptr),
-          frames_(plan.out_dir, plan.collection_name, args.csv, FrameFilter::from_options(args.output_stride, args.output_box)),
+          frames_(plan.out_dir, plan.collection_name, args.csv, FrameFilter::from_options(args.output_stride, args.output_box, args.fields)),
           surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render ||
                             args.video
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,

@@ -34,7 +34,7 @@ RunPlan make_plan(const RunArgs& args, const Scene& scene) {
     if (args.until && !(std::isfinite(*args.until) && *args.until >= 0.0))
         throw Error("--until: expected a finite simulated time >= 0 s");
     if (!(plan.every > 0.0) || !std::isfinite(plan.every)) throw Error(every_name + ": expected a finite time > 0 s");
-    FrameFilter::from_options(args.output_stride, args.output_box);  // checked before anything is set up
+    FrameFilter::from_options(args.output_stride, args.output_box, args.fields);  // checked before anything is set up
     if (args.steps && (*args.steps == 0 || *args.steps > max_steps))
         throw Error("--steps: expected 1 to " + std::to_string(max_steps) + " steps");
     if (std::isfinite(plan.until) && plan.until / plan.every > 1e6) {

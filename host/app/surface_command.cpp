@@ -36,9 +36,11 @@ int surface_command(const SurfaceArgs& args) {
         for (std::size_t i = 0; i < argv.size(); ++i) {
             const std::string a = argv[i].is_string() ? argv[i].get<std::string>() : std::string();
             const bool stride = a == "--output-stride" && i + 1 < argv.size() && argv[i + 1] != "1";
-            if (stride || a == "--output-box" || a.rfind("--output-stride=", 0) == 0 || a.rfind("--output-box=", 0) == 0)
+            const bool fields = a == "--fields" && i + 1 < argv.size() && argv[i + 1] != "all";
+            if (stride || fields || a == "--output-box" || a.rfind("--output-stride=", 0) == 0 ||
+                a.rfind("--output-box=", 0) == 0 || a.rfind("--fields=", 0) == 0)
                 throw Error("clsph " + std::string(args.render ? "render" : "surface") + ": the frames in " + args.dir +
-                            " hold part of the particles (" + a + "); a surface needs them all (clsph run --surface " +
+                            " hold part of the particles or of their data (" + a + "); a surface needs them all (clsph run --surface " +
                             "meshes every particle while it runs)");
         }
     }

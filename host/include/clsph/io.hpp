@@ -16,12 +16,27 @@ namespace clsph {
 // velocity (Float32 x 3), density and pressure (Float32).
 void write_vtu(const std::string& path, const Particles& particles);
 
+// Which point-data arrays a frame holds (positions always): `clsph run --fields`.
+struct FrameFields {
+    bool id = true, type = true, velocity = true, density = true, pressure = true;
+    // "all", or a comma-separated list of id, type, velocity, density, pressure; throws clsph::Error
+    // naming `option` (and the unknown name) otherwise.
+    static FrameFields parse(const std::string& list, const std::string& option = "--fields");
+    bool all() const { return id && type && velocity && density && pressure; }
+};
+// write_vtu with only the chosen point-data arrays (and write_csv with only their columns).
+void write_vtu(const std::string& path, const Particles& particles, const FrameFields& fields);
+
 // Reads a file written by write_vtu (not VTU files in general: for round-trip tests and tools).
+// Every array must be there; with `present`, arrays a chosen-fields frame left out are allowed,
+// left at zero and reported in *present.
 Particles read_vtu(const std::string& path);
+Particles read_vtu(const std::string& path, FrameFields* present);
 
 // One frame as CSV with the header `id,type,x,y,z,vx,vy,vz,rho,p`; type is 0 (fluid) or 1
 // (boundary); every number is written with as many digits as reading it back exactly needs.
 void write_csv(const std::string& path, const Particles& particles);
+void write_csv(const std::string& path, const Particles& particles, const FrameFields& fields);
 Particles read_csv(const std::string& path);
 
 struct PvdEntry {

@@ -27,21 +27,26 @@ bool parse(std::string_view text, T& out) {
 
 }  // namespace
 
-void write_csv(const std::string& path, const Particles& p) {
+void write_csv(const std::string& path, const Particles& p) { write_csv(path, p, FrameFields{}); }
+
+void write_csv(const std::string& path, const Particles& p, const FrameFields& f) {
     io::require_consistent(p, path);
     io::OutputFile out(path);
-    std::string buf(csv_header);
+    // The header's columns in order, those of left-out fields dropped (positions always there).
+    std::string buf = std::string(f.id ? "id," : "") + (f.type ? "type," : "") + "x,y,z" + (f.velocity ? ",vx,vy,vz" : "") +
+                      (f.density ? ",rho" : "") + (f.pressure ? ",p" : "");
     buf += '\n';
     for (std::size_t i = 0; i < p.size(); ++i) {
-        append(buf, p.id[i]);
-        buf += ',';
-        append(buf, static_cast<unsigned>(p.type[i]));
-        for (double x : p.position[i]) buf += ',', append(buf, x);
-        for (float v : p.velocity[i]) buf += ',', append(buf, v);
-        buf += ',';
-        append(buf, p.density[i]);
-        buf += ',';
-        append(buf, p.pressure[i]);
+        if (f.id) append(buf, p.id[i]), buf += ',';
+        if (f.type) append(buf, static_cast<unsigned>(p.type[i])), buf += ',';
+        for (int k = 0; k < 3; ++k) {
+            if (k > 0) buf += ',';
+            append(buf, p.position[i][k]);
+        }
+        if (f.velocity)
+            for (float v : p.velocity[i]) buf += ',', append(buf, v);
+        if (f.density) buf += ',', append(buf, p.density[i]);
+        if (f.pressure) buf += ',', append(buf, p.pressure[i]);
         buf += '\n';
         if (buf.size() > (1u << 20)) {
             out.write(buf);

@@ -20,8 +20,9 @@ struct VtuFile {
 
     [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 
-    // Copies array `a` into `dest` (n * components elements) after checking its tag and size.
-    void array(const io::VtuArray& a, void* dest) const {
+    // Copies array `a` into `dest` (n * components elements) after checking its tag and size;
+    // returns false when there is no such array and it may be missing (`optional`).
+    bool array(const io::VtuArray& a, void* dest, bool optional = false) const {
         for (const auto& tag : io::xml_tags(header, "DataArray")) {
             if (io::xml_attribute(tag, "Name") != std::string(a.name)) continue;
             if (io::xml_attribute(tag, "type") != std::string(a.type))
@@ -39,15 +40,18 @@ struct VtuFile {
             if (size != want || at + sizeof size + size > bytes.size())
                 fail(std::string("array ") + a.name + " has " + std::to_string(size) + " bytes, expected " + std::to_string(want));
             if (size > 0) std::memcpy(dest, bytes.data() + at + sizeof size, size);
-            return;
+            return true;
         }
+        if (optional) return false;
         fail(std::string("no array named ") + a.name);
     }
 };
 
 }  // namespace
 
-Particles read_vtu(const std::string& path) {
+Particles read_vtu(const std::string& path) { return read_vtu(path, nullptr); }
+
+Particles read_vtu(const std::string& path, FrameFields* present) {
     VtuFile f{path, io::read_file(path), {}, 0, 0};
     const std::size_t appended = f.bytes.find("<AppendedData");
     const std::size_t marker = appended == std::string::npos ? appended : f.bytes.find('_', appended);
@@ -72,12 +76,15 @@ Particles read_vtu(const std::string& path) {
     Particles p;
     p.resize(f.points);
     try {
-        f.array(io::vtu_id, p.id.data());
-        f.array(io::vtu_type, p.type.data());
-        f.array(io::vtu_velocity, p.velocity.data());
-        f.array(io::vtu_density, p.density.data());
-        f.array(io::vtu_pressure, p.pressure.data());
+        const bool optional = present != nullptr;
+        FrameFields got;
+        got.id = f.array(io::vtu_id, p.id.data(), optional);
+        got.type = f.array(io::vtu_type, p.type.data(), optional);
+        got.velocity = f.array(io::vtu_velocity, p.velocity.data(), optional);
+        got.density = f.array(io::vtu_density, p.density.data(), optional);
+        got.pressure = f.array(io::vtu_pressure, p.pressure.data(), optional);
         f.array(io::vtu_position, p.position.data());
+        if (present) *present = got;
     } catch (const std::logic_error&) {  // std::stoul on a malformed attribute
         f.fail("malformed DataArray attributes");
     }

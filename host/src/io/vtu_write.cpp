@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace clsph {
@@ -51,8 +52,17 @@ void write_cells(io::OutputFile& out, std::size_t n) {
 
 }  // namespace
 
-void write_vtu(const std::string& path, const Particles& p) {
+void write_vtu(const std::string& path, const Particles& p) { write_vtu(path, p, FrameFields{}); }
+
+void write_vtu(const std::string& path, const Particles& p, const FrameFields& fields) {
     io::require_consistent(p, path);
+    // The point-data arrays written, in their order, with their data.
+    std::vector<std::pair<const io::VtuArray*, const void*>> point_data;
+    if (fields.id) point_data.push_back({&io::vtu_id, p.id.data()});
+    if (fields.type) point_data.push_back({&io::vtu_type, p.type.data()});
+    if (fields.velocity) point_data.push_back({&io::vtu_velocity, p.velocity.data()});
+    if (fields.density) point_data.push_back({&io::vtu_density, p.density.data()});
+    if (fields.pressure) point_data.push_back({&io::vtu_pressure, p.pressure.data()});
     const std::size_t n = p.size();
     const bool small = n < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
     const char* int_type = small ? "Int32" : "Int64";
@@ -64,13 +74,14 @@ void write_vtu(const std::string& path, const Particles& p) {
         << (io::host_is_little_endian() ? "LittleEndian" : "BigEndian") << "\" header_type=\"UInt64\">\n"
         << "  <UnstructuredGrid>\n"
         << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
-        << "      <PointData Scalars=\"type\" Vectors=\"velocity\">\n";
+        << "      <PointData" << (fields.type ? " Scalars=\"type\"" : "") << (fields.velocity ? " Vectors=\"velocity\"" : "")
+        << ">\n";
     std::uint64_t offset = 0;
     auto next = [&](const io::VtuArray& a) {
         data_array(xml, a.type, a.name, a.components, offset);
         offset += 8 + n * a.components * a.bytes;
     };
-    for (const auto* a : {&io::vtu_id, &io::vtu_type, &io::vtu_velocity, &io::vtu_density, &io::vtu_pressure}) next(*a);
+    for (const auto& [a, data] : point_data) next(*a);
     xml << "      </PointData>\n      <Points>\n";
     next(io::vtu_position);
     xml << "      </Points>\n      <Cells>\n";
@@ -88,11 +99,7 @@ void write_vtu(const std::string& path, const Particles& p) {
         out.write(&bytes, sizeof bytes);
         out.write(data, bytes);
     };
-    block(p.id.data(), io::vtu_id);
-    block(p.type.data(), io::vtu_type);
-    block(p.velocity.data(), io::vtu_velocity);
-    block(p.density.data(), io::vtu_density);
-    block(p.pressure.data(), io::vtu_pressure);
+    for (const auto& [a, data] : point_data) block(data, *a);
     block(p.position.data(), io::vtu_position);
     if (small)
         write_cells<std::int32_t>(out, n);
