@@ -9,6 +9,7 @@
 #include "support/sph_reference.hpp"
 #include "support/surge_front.hpp"
 #include "support/test_devices.hpp"
+#include "support/validation.hpp"
 
 #include <doctest/doctest.h>
 
@@ -146,12 +147,6 @@ double floor_gap(const Particles& p) {
     return sum / static_cast<double>(std::max<std::size_t>(n, 1));
 }
 
-Options one_device() {
-    Options o;
-    o.devices = test::validation_device_spec();
-    return o;
-}
-
 }  // namespace
 
 TEST_SUITE("mdbc") {
@@ -281,7 +276,7 @@ TEST_CASE("hydrostatic tank with mDBC: floor and wall pressures are the fluid's 
     auto run = [&](BoundaryMethod method) {
         Scene s = tank(method);
         const double h = s.physics.h();
-        Simulation sim(s, one_device());
+        Simulation sim(s, test::validation_options());
         double ke_peak = 0;
         sim.run_until(std::getenv("CLSPH_QUICK") ? 0.1 : 0.4,
                       [&](const StepInfo& i) { ke_peak = std::max(ke_peak, i.kinetic_energy); });
@@ -337,7 +332,7 @@ TEST_CASE("mDBC closes the gap DBC keeps: water released one dp above its place 
     double gap[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
         const BoundaryMethod method = k == 0 ? BoundaryMethod::dbc : BoundaryMethod::mdbc;
-        Simulation sim(tank(method, 1), one_device());
+        Simulation sim(tank(method, 1), test::validation_options());
         const double before = floor_gap(sim.particles());
         sim.run_until(std::getenv("CLSPH_QUICK") ? 0.15 : 0.3);
         gap[k] = floor_gap(sim.particles());
@@ -362,7 +357,7 @@ TEST_CASE("dam break with mDBC and wall friction: the surge front within 5 % of 
     s.domain.max[1] = depth;
     s.walls.front().max[1] = depth - dp;
     s.fluids.front().max[1] = depth - 0.5 * dp;
-    Simulation sim(s, one_device());
+    Simulation sim(s, test::validation_options());
     CHECK(test::surge_front_rms(sim, L) <= 0.05);
 }
 }

@@ -6,20 +6,13 @@
 #include "support/scenes.hpp"
 #include "support/surge_front.hpp"
 #include "support/test_devices.hpp"
+#include "support/validation.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 
 using namespace clsph;
-
-namespace {
-Options one_device() {
-    Options o;
-    o.devices = test::validation_device_spec();
-    return o;
-}
-}  // namespace
 
 TEST_SUITE("symplectic") {
 TEST_CASE("Symplectic: a tank at rest stays at rest, its pressures hydrostatic") {
@@ -46,7 +39,7 @@ TEST_CASE("Symplectic: a tank at rest stays at rest, its pressures hydrostatic")
         p.point = {W / 2, D / 2, H - depth};
         s.probes.push_back(p);
     }
-    Simulation sim(s, one_device());
+    Simulation sim(s, test::validation_options());
     double ke_peak = 0;
     sim.run_until(std::getenv("CLSPH_QUICK") ? 0.1 : 0.3,
                   [&](const StepInfo& i) { ke_peak = std::max(ke_peak, i.kinetic_energy); });
@@ -68,7 +61,7 @@ TEST_CASE("Symplectic: dam break surge front against Koshizuka & Oka (1996), as 
     const double L = 0.146;
     Scene s = test::surge_dam_break(L, L / 20);
     s.physics.integrator = Integrator::symplectic;
-    Simulation sim(s, one_device());
+    Simulation sim(s, test::validation_options());
     CHECK(test::surge_front_rms(sim, L) <= 0.10);
 }
 }

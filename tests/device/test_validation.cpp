@@ -5,6 +5,7 @@
 #include "support/scenes.hpp"
 #include "support/surge_front.hpp"
 #include "support/test_devices.hpp"
+#include "support/validation.hpp"
 
 #include <doctest/doctest.h>
 
@@ -15,12 +16,6 @@
 using namespace clsph;
 
 namespace {
-
-Options validation_options() {
-    Options o;
-    o.devices = test::validation_device_spec();
-    return o;
-}
 
 std::array<double, 3> momentum(const Particles& p, double m) {
     std::array<double, 3> P{0, 0, 0};
@@ -46,7 +41,7 @@ TEST_CASE("an isolated fluid block without gravity conserves mass and momentum")
     f.max = {0.2, 0.15, 0.1};
     f.velocity = {0.3, -0.1, 0.05};
     s.fluids.push_back(f);
-    Simulation sim(s, validation_options());
+    Simulation sim(s, test::validation_options());
     const double m = s.physics.rho0 * std::pow(s.physics.dp, 3);
     Particles p0 = sim.particles();
     const auto P0 = momentum(p0, m);
@@ -98,7 +93,7 @@ TEST_CASE("hydrostatic tank: probe pressures match rho0 g depth") {
     hp.name = "height";
     hp.point = {W / 2, D / 2, 0};
     s.probes.push_back(hp);
-    Simulation sim(s, validation_options());
+    Simulation sim(s, test::validation_options());
     double ke_peak = 0;
     sim.run_until(std::getenv("CLSPH_QUICK") ? 0.12 : 0.6,
                   [&](const StepInfo& i) { ke_peak = std::max(ke_peak, i.kinetic_energy); });
@@ -134,7 +129,7 @@ TEST_CASE("gauges on still water, sampled every step: the height ignores a drop 
     using test::GaugeTank;
     Scene s = GaugeTank::scene();
     s.run.probe_every = 1;  // every step a probe step: the step ahead samples each in the queue
-    Options o = validation_options();
+    Options o = test::validation_options();
     o.synchronous = false;  // the harder path: sample_probes() inside the callback, steps in flight
     Simulation sim(s, o);
     const double dp = GaugeTank::dp, rho_g = s.physics.rho0 * 9.81;
@@ -182,14 +177,14 @@ TEST_CASE("gauges on still water, sampled every step: the height ignores a drop 
 
 TEST_CASE("dam break surge front against Koshizuka & Oka (1996)") {
     const double L = 0.146;
-    Simulation sim(dam_break(L, L / 20), validation_options());
+    Simulation sim(dam_break(L, L / 20), test::validation_options());
     CHECK(test::surge_front_rms(sim, L) <= 0.10);
 }
 
 TEST_CASE("a blow-up stops with a typed error naming step, time and particle") {
     Scene s = dam_break(0.146, 0.146 / 10);
     s.run.fixed_dt = 2e-3;  // about 15 times the CFL step
-    Simulation sim(s, validation_options());
+    Simulation sim(s, test::validation_options());
     try {
         for (int i = 0; i < 200; ++i) sim.step();
         FAIL("no error after 200 oversized steps");
