@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <utility>
 
 namespace clsph::app {
@@ -14,12 +15,35 @@ std::string frame_name(std::size_t index, const char* extension) {
     return name;
 }
 
+std::string piece_name(std::size_t index, std::size_t piece) {
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%05zu_p%zu.vtu", index, piece);
+    return name;
+}
+
+Particles concatenate(std::vector<Particles> pieces) {
+    if (pieces.size() == 1) return std::move(pieces[0]);
+    Particles all;
+    for (const auto& p : pieces)
+        for (std::size_t i = 0; i < p.size(); ++i)
+            all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+    return all;
+}
+
+// Threads that compress one frame: half the host's cores (the other half feeds the devices or
+// runs pocl's), at most 8; the pieces of a frame share them.
+unsigned compress_threads(std::size_t pieces) {
+    const unsigned cores = std::thread::hardware_concurrency();
+    const unsigned frame = std::clamp(cores / 2, 1u, 8u);
+    return std::max(1u, frame / static_cast<unsigned>(std::max<std::size_t>(pieces, 1)));
+}
+
 }  // namespace
 
-FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, bool csv, FrameFilter filter,
+FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, FrameFormat format, FrameFilter filter,
                          std::size_t max_in_flight)
     : dir_(std::move(dir)),
-      csv_(csv),
+      format_(format),
       filter_(std::move(filter)),
       max_in_flight_(max_in_flight ? max_in_flight : 1),
       pvd_(dir_ + "/" + collection_name),
@@ -41,12 +65,24 @@ void FrameWriter::resume_at(const std::vector<PvdEntry>& before, double time) {
 }
 
 void FrameWriter::submit(double time, Particles particles) {
-    particles = filter_.apply(std::move(particles));  // before queuing: a thinned frame waits in less memory
+    std::vector<Particles> one;
+    one.push_back(std::move(particles));
+    submit_pieces(time, std::move(one));
+}
+
+void FrameWriter::submit_pieces(double time, std::vector<Particles> pieces) {
+    // Before queuing: a thinned frame waits in less memory.
+    for (auto& p : pieces) p = filter_.apply(std::move(p));
+    if (!format_.pieces && pieces.size() != 1) {
+        Particles all = concatenate(std::move(pieces));
+        pieces.clear();
+        pieces.push_back(std::move(all));
+    }
     std::unique_lock<std::mutex> lock(mutex_);
     // Frames in flight: queued plus the one being written.
     changed_.wait(lock, [&] { return error_ || queue_.size() + (busy_ ? 1 : 0) < max_in_flight_; });
     if (error_) std::rethrow_exception(error_);
-    queue_.push_back(Frame{submitted_++, time, std::move(particles)});
+    queue_.push_back(Frame{submitted_++, time, std::move(pieces)});
     last_time_ = time;
     changed_.notify_all();
 }
@@ -113,12 +149,41 @@ void FrameWriter::loop() {
 }
 
 void FrameWriter::write(const Frame& frame) {
+    if (format_.pieces) return write_pieces(frame);
     const std::string vtu = frame_name(frame.index, "vtu");
-    write_vtu(dir_ + "/" + vtu, frame.particles, filter_.fields);
-    if (csv_) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), frame.particles, filter_.fields);
+    write_vtu(dir_ + "/" + vtu, frame.pieces[0], filter_.fields, VtuFormat{format_.compress, compress_threads(1)});
+    if (format_.csv) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), frame.pieces[0], filter_.fields);
     // The collection names a frame only once its file is complete, so ParaView (which may already
     // have the .pvd open) never follows it to a missing file.
     pvd_.add(frame.time, vtu);
+}
+
+void FrameWriter::write_pieces(const Frame& frame) {
+    const std::size_t n = frame.pieces.size();
+    std::vector<std::string> names(n);
+    std::vector<std::exception_ptr> errors(n);
+    const VtuFormat vtu{format_.compress, compress_threads(n)};
+    {
+        std::vector<std::thread> threads;
+        for (std::size_t k = 0; k < n; ++k) {
+            names[k] = piece_name(frame.index, k);
+            threads.emplace_back([&, k] {
+                try {
+                    write_vtu(dir_ + "/" + names[k], frame.pieces[k], filter_.fields, vtu);
+                } catch (...) {
+                    errors[k] = std::current_exception();
+                }
+            });
+        }
+        for (auto& t : threads) t.join();
+    }
+    for (const auto& e : errors)
+        if (e) std::rethrow_exception(e);
+    if (format_.csv) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), concatenate(frame.pieces), filter_.fields);
+    // The index once every piece is complete, the collection once the index is.
+    const std::string index = frame_name(frame.index, "pvtu");
+    write_pvtu(dir_ + "/" + index, names, filter_.fields);
+    pvd_.add(frame.time, index);
 }
 
 }  // namespace clsph::app

@@ -1,7 +1,9 @@
 // Frames written in the background: the run loop downloads particles (a device read) and hands the
 // host copy over; a writer thread encodes VTU (and CSV) and updates the .pvd while the devices go
 // on stepping. At most `max_in_flight` frames wait, which bounds memory when the disk is slower
-// than the simulation (the run loop then waits in submit()).
+// than the simulation (the run loop then waits in submit()). With --compress the writer compresses
+// with several threads; with --pieces a frame is one VTU per device, written by one thread each,
+// and a .pvtu index that the .pvd names.
 #pragma once
 #include <clsph/io.hpp>
 #include <clsph/particles.hpp>
@@ -19,11 +21,18 @@
 
 namespace clsph::app {
 
+// How frames are written (clsph run --csv, --compress, --pieces).
+struct FrameFormat {
+    bool csv = false;       // also frame_NNNNN.csv (whole, also with pieces)
+    bool compress = false;  // zlib-compressed VTU (vtkZLibDataCompressor)
+    bool pieces = false;    // frame_NNNNN_pK.vtu per device and frame_NNNNN.pvtu (submit_pieces)
+};
+
 class FrameWriter {
 public:
     // Frames go to `dir`/frame_NNNNN.vtu (and .csv); the collection to `dir`/`collection_name`.
-    // `filter`: which particles each frame holds (--output-stride, --output-box).
-    FrameWriter(std::string dir, const std::string& collection_name, bool csv, FrameFilter filter = {},
+    // `filter`: which particles each frame holds (--output-stride, --output-box), in every piece.
+    FrameWriter(std::string dir, const std::string& collection_name, FrameFormat format, FrameFilter filter = {},
                 std::size_t max_in_flight = 2);
     // clsph resume: the collection's frames up to `time` kept (the next frame is numbered after
     // them), the later ones dropped from it (their files are written over).
@@ -34,6 +43,10 @@ public:
 
     // Queues frame number frames_submitted() at simulated `time`. Rethrows a writer error.
     void submit(double time, Particles particles);
+    // The same as pieces, one per device (Simulation::particles_by_device): with FrameFormat::pieces
+    // each is written as its own VTU; without, they are written as one frame.
+    void submit_pieces(double time, std::vector<Particles> pieces);
+    bool pieces() const { return format_.pieces; }
     // Rethrows the first error the writer thread met (a full disk, say), if any.
     void check();
     // Writes what is queued, stops the thread and rethrows a writer error.
@@ -50,14 +63,15 @@ private:
     struct Frame {
         std::size_t index;
         double time;
-        Particles particles;
+        std::vector<Particles> pieces;  // one, unless FrameFormat::pieces
     };
     void loop();
     void write(const Frame& frame);
+    void write_pieces(const Frame& frame);
     void stop();
 
     std::string dir_;
-    bool csv_;
+    FrameFormat format_;
     FrameFilter filter_;
     std::size_t max_in_flight_;
     PvdWriter pvd_;  // used by the writer thread only, once started

@@ -4,7 +4,7 @@
 //                   [--profile] [--set KEY=VALUE]... [--dry-run] [--force] [--interaction NAME]
 //                   [--balance dynamic|static|off] [--balance-log FILE] [--surface] [--surface-every DT]
 //                   [--surface-ply] [--checkpoint-every DT] [--checkpoint-keep K]
-//                   [--on-device-failure stop|continue]
+//                   [--on-device-failure stop|continue] [--compress] [--pieces]
 //   clsph resume DIR [--until T] [--devices SPEC] [--steps N]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 //   clsph render DIR [--devices SPEC] [--spacing M] [--video]
@@ -64,6 +64,10 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--output-box", a.output_box, "frames (and CSV) hold only the particles inside this box")
         ->expected(6)
         ->type_name("XMIN YMIN ZMIN XMAX YMAX ZMAX");
+    run.add_flag("--compress", a.compress,
+                 "write frames zlib-compressed (vtkZLibDataCompressor, as ParaView reads them): smaller, slower to write");
+    run.add_flag("--pieces", a.pieces,
+                 "write each frame as one VTU per device (frame_NNNNN_pK.vtu) and an index frame_NNNNN.pvtu, in parallel");
     run.add_flag("--profile", a.profile, "time every kernel and print a per-kernel table at the end");
     run.add_flag("--synchronous", a.synchronous,
                  "wait for every step on the host (the step ahead off: dt, cell count and statistics read back per step)");

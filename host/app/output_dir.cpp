@@ -20,7 +20,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 // a mistyped --out pointing at a user's directory costs them no files of their own.
 bool written_by_a_run(const std::string& name) {
     if (ends_with(name, ".tmp")) return true;  // a writer cut short mid-rename
-    if (starts_with(name, "frame_") && (ends_with(name, ".vtu") || ends_with(name, ".csv"))) return true;
+    if (starts_with(name, "frame_") && (ends_with(name, ".vtu") || ends_with(name, ".pvtu") || ends_with(name, ".csv"))) return true;
     if (starts_with(name, "probe_") && ends_with(name, ".csv")) return true;
     if (starts_with(name, "checkpoint_") && ends_with(name, ".clsph")) return true;
     if (starts_with(name, "surge_front.")) return true;

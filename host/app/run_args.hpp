@@ -21,6 +21,8 @@ struct RunArgs {
     std::size_t output_stride = 1;            // --output-stride K: frames hold every K-th particle by id
     std::vector<double> output_box;           // --output-box: frames hold the particles inside (6 numbers)
     std::string fields = "all";               // --fields: the point-data arrays frames hold
+    bool compress = false;                    // --compress: zlib-compressed VTU frames
+    bool pieces = false;                      // --pieces: a frame is one VTU per device and a .pvtu index
     bool profile = false;
     bool synchronous = false;                 // --synchronous: Options::synchronous
     bool dry_run = false;

@@ -79,7 +79,8 @@ public:
                               interaction_forms(sim), sim.scene().to_json(), resume ? resume->start_time : std::string(),
                               resume ? resume->resumes : std::vector<std::string>{}},
                   sim.scene().probes, resume ? &resume->point : nullptr),
-          frames_(plan.out_dir, plan.collection_name, args.csv, FrameFilter::from_options(args.output_stride, args.output_box, args.fields)),
+          frames_(plan.out_dir, plan.collection_name, FrameFormat{args.csv, args.compress, args.pieces},
+                  FrameFilter::from_options(args.output_stride, args.output_box, args.fields)),
           surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render ||
                             args.video
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
@@ -249,8 +250,10 @@ private:
     // A frame: downloaded, queued for the writer thread, and the CSV rows up to it pushed to disk,
     // with the run.json a second signal would leave brought up to date.
     void submit_frame() {
-        Particles p = after_step("downloading a frame", [&] { return sim_.particles(); });
-        frames_.submit(sim_.time(), std::move(p));
+        if (frames_.pieces())
+            frames_.submit_pieces(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles_by_device(); }));
+        else
+            frames_.submit(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles(); }));
         if (surfaces_) after_step("extracting the free surface", [&] {
                 surfaces_->at_frame(sim_);
                 return 0;

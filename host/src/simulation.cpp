@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cstring>
 #include <sstream>
+#include <exception>
+#include <thread>
 #include <unordered_map>
 
 #include "clsph/version.hpp"
@@ -290,17 +292,60 @@ void Simulation::run_until(double t, const std::function<void(const StepInfo&)>&
     }
 }
 
-Particles Simulation::particles() {
-    auto& m = *impl_;
-    Particles p = cl_rt::guarded("downloading the particles", "", [&] { return m.driver->download(); });
-    const auto& sp = m.driver->params();
+namespace {
+
+// The devices keep density only; pressure follows from it by the equation of state (Tait, gamma 7).
+void fill_pressure(Particles& p, const SphParams& sp) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         const double x = p.density[i] / sp.rho0;
         p.pressure[i] = static_cast<float>(sp.eos_b * (std::pow(x, 7.0) - 1.0));
     }
+}
+
+}  // namespace
+
+Particles Simulation::particles() {
+    auto& m = *impl_;
+    Particles p = cl_rt::guarded("downloading the particles", "", [&] { return m.driver->download(); });
+    fill_pressure(p, m.driver->params());
     m.last_good = p;
     m.last_good_time = m.info.time;
     return p;
+}
+
+std::vector<Particles> Simulation::particles_by_device() {
+    auto& m = *impl_;
+    auto& slabs = m.driver->slabs();
+    std::vector<Particles> pieces(slabs.size());
+    auto download = [&](std::size_t k) {
+        pieces[k] = cl_rt::guarded("downloading the particles", slabs[k].device->label(), [&] { return slabs[k].store->download(); });
+        fill_pressure(pieces[k], m.driver->params());
+    };
+    if (slabs.size() == 1) {
+        download(0);
+    } else {
+        // Each device's read waits on its own queue: one thread per device, so they overlap.
+        std::vector<std::exception_ptr> errors(slabs.size());
+        std::vector<std::thread> threads;
+        for (std::size_t k = 0; k < slabs.size(); ++k)
+            threads.emplace_back([&, k] {
+                try {
+                    download(k);
+                } catch (...) {
+                    errors[k] = std::current_exception();
+                }
+            });
+        for (auto& t : threads) t.join();
+        for (const auto& e : errors)
+            if (e) std::rethrow_exception(e);
+    }
+    Particles all;
+    for (const auto& p : pieces)
+        for (std::size_t i = 0; i < p.size(); ++i)
+            all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+    m.last_good = std::move(all);
+    m.last_good_time = m.info.time;
+    return pieces;
 }
 
 bool Simulation::steps_ahead() const { return impl_->ahead; }

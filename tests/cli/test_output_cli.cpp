@@ -115,3 +115,121 @@ TEST_CASE("--fields: frames and CSV hold only the arrays asked for, the same val
     CHECK(run({"surface", some}, log) == 1);
     CHECK(log.find("--fields") != std::string::npos);
 }
+
+namespace {
+
+// How many devices a selection picks (`clsph devices --devices SPEC`).
+std::size_t devices_picked(const std::string& spec) {
+    std::string log;
+    run({"devices", "--devices", spec}, log);
+    const auto at = log.find("picks:");
+    if (at == std::string::npos) return 0;
+    std::istringstream in(log.substr(at + 6));
+    std::size_t n = 0;
+    for (std::string index; in >> index;) ++n;
+    return n;
+}
+
+// Bitwise equality by id (both frames sorted by id).
+std::size_t differences(clsph::Particles a, clsph::Particles b) {
+    auto sorted = [](const clsph::Particles& p) {
+        std::vector<std::size_t> order(p.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return p.id[x] < p.id[y]; });
+        return order;
+    };
+    if (a.size() != b.size()) return std::max(a.size(), b.size());
+    const auto oa = sorted(a), ob = sorted(b);
+    std::size_t wrong = 0;
+    for (std::size_t k = 0; k < oa.size(); ++k) {
+        const std::size_t i = oa[k], j = ob[k];
+        wrong += a.id[i] != b.id[j] || a.type[i] != b.type[j] || a.position[i] != b.position[j] ||
+                 a.velocity[i] != b.velocity[j] || a.density[i] != b.density[j] || a.pressure[i] != b.pressure[j];
+    }
+    return wrong;
+}
+
+}  // namespace
+
+TEST_CASE("--compress: frames ParaView reads zlib-compressed, smaller, reading back as the raw frames") {
+    const std::string raw = work_dir("compress_raw"), zlib = work_dir("compress_zlib");
+    std::string log;
+    const std::vector<std::string> common = {"--devices", "0", "--until", "0.004", "--every", "0.002"};
+    REQUIRE(run(args({{"run", scene}, tiny, common, {"--out", raw}}), log) == 0);
+    REQUIRE(run(args({{"run", scene}, tiny, common, {"--compress", "--out", zlib}}), log) == 0);
+    INFO(log);
+    const auto frames = clsph::read_pvd(raw + "/dam_break.pvd"), packed = clsph::read_pvd(zlib + "/dam_break.pvd");
+    REQUIRE(frames.size() == 3);
+    REQUIRE(packed.size() == frames.size());
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        CAPTURE(f);
+        const std::string file = zlib + "/" + packed[f].file;
+        CHECK(read_text(file).find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
+        CHECK(fs::file_size(file) < fs::file_size(raw + "/" + frames[f].file));
+        CHECK(differences(clsph::read_vtu(raw + "/" + frames[f].file), clsph::read_vtu(file)) == 0);
+    }
+}
+
+// Needs two devices: POCL_DEVICES="basic pthread" (as scripts/test.sh sets it).
+TEST_CASE("--pieces: one VTU per device and a .pvtu per frame, every particle exactly once, thinned as asked") {
+    if (devices_picked("platform:pocl") < 2) {
+        MESSAGE("skipped: --pieces needs two pocl devices (POCL_DEVICES=\"basic pthread\"); this host has one");
+        return;
+    }
+    const std::string whole = work_dir("pieces_whole"), split = work_dir("pieces_split"), thin = work_dir("pieces_thin");
+    std::string log;
+    // Static cuts, so that two runs step the same slabs the same way.
+    const std::vector<std::string> common = {"--devices", "platform:pocl", "--balance", "static", "--until", "0.004",
+                                             "--every", "0.002"};
+    REQUIRE(run(args({{"run", scene}, tiny, common, {"--out", whole}}), log) == 0);
+    REQUIRE(run(args({{"run", scene}, tiny, common, {"--pieces", "--compress", "--csv", "--out", split}}), log) == 0);
+    REQUIRE(run(args({{"run", scene}, tiny, common, {"--pieces", "--output-stride", "3", "--out", thin}}), log) == 0);
+    INFO(log);
+    const auto frames = clsph::read_pvd(whole + "/dam_break.pvd"), pieced = clsph::read_pvd(split + "/dam_break.pvd"),
+               thinned = clsph::read_pvd(thin + "/dam_break.pvd");
+    REQUIRE(frames.size() == 3);
+    REQUIRE(pieced.size() == frames.size());
+    REQUIRE(thinned.size() == frames.size());
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        CAPTURE(f);
+        CHECK(pieced[f].file == "frame_0000" + std::to_string(f) + ".pvtu");
+        const std::string index = split + "/" + pieced[f].file;
+        const auto sources = clsph::read_pvtu_sources(index);
+        REQUIRE(sources.size() == 2);
+        // Each piece a compressed VTU holding particles; together every particle exactly once.
+        std::map<std::uint32_t, int> seen;
+        for (const auto& s : sources) {
+            const std::string piece = split + "/" + s;
+            CHECK(read_text(piece).find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
+            const clsph::Particles p = clsph::read_vtu(piece);
+            CHECK(p.size() > 100);
+            for (auto id : p.id) ++seen[id];
+        }
+        const clsph::Particles all = clsph::read_vtu(whole + "/" + frames[f].file);
+        CHECK(seen.size() == all.size());
+        std::size_t twice = 0, missing = 0;
+        for (const auto& [id, count] : seen) twice += count != 1;
+        for (auto id : all.id) missing += seen.count(id) == 0;
+        CHECK(twice == 0);
+        CHECK(missing == 0);
+        // The index reads back as the single-file frame, and as the run's own CSV twin.
+        const clsph::Particles joined = clsph::read_vtu(index);
+        CHECK(differences(joined, all) == 0);
+        CHECK(differences(joined, clsph::read_csv(split + "/frame_0000" + std::to_string(f) + ".csv")) == 0);
+        // --output-stride applies to every piece.
+        std::size_t want = 0;
+        for (auto id : all.id) want += id % 3 == 0;
+        std::size_t got = 0, wrong = 0;
+        for (const auto& s : clsph::read_pvtu_sources(thin + "/" + thinned[f].file)) {
+            const clsph::Particles p = clsph::read_vtu(thin + "/" + s);
+            got += p.size();
+            for (auto id : p.id) wrong += id % 3 != 0 || seen.count(id) == 0;
+        }
+        CHECK(got == want);
+        CHECK(wrong == 0);
+    }
+    // clsph surface reads the pieced frames back.
+    fs::remove(split + "/surface.pvd");
+    REQUIRE(run({"surface", split, "--devices", "0"}, log) == 0);
+    CHECK(clsph::read_pvd(split + "/surface.pvd").size() == frames.size());
+}

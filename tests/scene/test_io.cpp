@@ -1,10 +1,13 @@
-// Output files: VTU and CSV frames read back equal to the particles written; the .pvd lists
-// every frame with its time; errors name the path and the OS error.
+// Output files: VTU (raw and compressed, single or in pieces) and CSV frames read back equal to
+// the particles written; the .pvd lists every frame with its time; errors name the path and the OS
+// error.
 #include "support.hpp"
 
 #include <clsph/io.hpp>
 
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 using scene_test::error_of;
@@ -34,6 +37,11 @@ void check_equal(const clsph::Particles& a, const clsph::Particles& b) {
         REQUIRE(std::memcmp(&a.density[i], &b.density[i], sizeof(float)) == 0);
         REQUIRE(std::memcmp(&a.pressure[i], &b.pressure[i], sizeof(float)) == 0);
     }
+}
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 bool no_temporary_files(const scene_test::TempDir& dir) {
@@ -169,4 +177,106 @@ TEST_CASE("I/O errors name the path and the OS error") {
           dir.file("bad.csv") + ": line 2: expected 10 fields, got 5");
     scene_test::write_text(dir.file("bad.vtu"), "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">");
     CHECK(error_of<clsph::Error>([&] { (void)clsph::read_vtu(dir.file("bad.vtu")); }).find(dir.file("bad.vtu") + ": ") == 0);
+}
+
+// Compressed frames (issue 20, part 3): what ParaView's vtkZLibDataCompressor reads, read back by
+// read_vtu equal to the raw frame, for sizes around the 64 KiB block (empty, partial, exactly full).
+TEST_CASE("compressed VTU frames read back equal to the raw frame, smaller, with the zlib header") {
+    std::mt19937 rng(scene_test::fresh_seed());
+    scene_test::TempDir dir;
+    for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{777}, std::size_t{16384}, std::size_t{65536},
+                          std::size_t{1000 + rng() % 200000}}) {
+        CAPTURE(n);
+        const clsph::Particles p = random_particles(n, rng);
+        clsph::write_vtu(dir.file("raw.vtu"), p);
+        for (unsigned threads : {1u, 3u}) {
+            CAPTURE(threads);
+            clsph::write_vtu(dir.file("zlib.vtu"), p, clsph::FrameFields{}, clsph::VtuFormat{true, threads});
+            const clsph::Particles raw = clsph::read_vtu(dir.file("raw.vtu"));
+            check_equal(p, raw);
+            check_equal(raw, clsph::read_vtu(dir.file("zlib.vtu")));
+        }
+        std::ifstream in(dir.file("zlib.vtu"), std::ios::binary);
+        std::string head(2000, '\0');
+        in.read(head.data(), static_cast<std::streamsize>(head.size()));
+        head = head.substr(0, head.find("<AppendedData"));
+        CHECK(head.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
+        CHECK(head.find("header_type=\"UInt64\"") != std::string::npos);
+        CHECK(head.find("NumberOfPoints=\"" + std::to_string(n) + "\"") != std::string::npos);
+        if (n >= 777) CHECK(std::filesystem::file_size(dir.file("zlib.vtu")) < std::filesystem::file_size(dir.file("raw.vtu")));
+    }
+    // The raw form says nothing of a compressor; every subset of fields round-trips compressed.
+    const clsph::Particles p = random_particles(5000, rng);
+    clsph::write_vtu(dir.file("raw.vtu"), p);
+    CHECK(read_text(dir.file("raw.vtu")).find("compressor") == std::string::npos);
+    for (int mask = 0; mask < 32; mask += 5) {
+        CAPTURE(mask);
+        clsph::FrameFields f;
+        f.id = mask & 1, f.type = mask & 2, f.velocity = mask & 4, f.density = mask & 8, f.pressure = mask & 16;
+        clsph::write_vtu(dir.file("zlib.vtu"), p, f, clsph::VtuFormat{true, 2});
+        clsph::FrameFields present;
+        const clsph::Particles q = clsph::read_vtu(dir.file("zlib.vtu"), &present);
+        CHECK((present.id == f.id && present.type == f.type && present.velocity == f.velocity && present.density == f.density &&
+               present.pressure == f.pressure));
+        REQUIRE(q.size() == p.size());
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            wrong += std::memcmp(&p.position[i], &q.position[i], sizeof p.position[i]) != 0 || (f.id && p.id[i] != q.id[i]) ||
+                     (f.pressure && std::memcmp(&p.pressure[i], &q.pressure[i], sizeof(float)) != 0);
+        CHECK(wrong == 0);
+    }
+}
+
+TEST_CASE("a damaged compressed frame is refused naming the file and the array") {
+    std::mt19937 rng(scene_test::fresh_seed());
+    scene_test::TempDir dir;
+    clsph::write_vtu(dir.file("zlib.vtu"), random_particles(3000, rng), clsph::FrameFields{}, clsph::VtuFormat{true, 1});
+    const std::string whole = read_text(dir.file("zlib.vtu"));
+    // Cut short: the last arrays lie beyond the end.
+    scene_test::write_text(dir.file("short.vtu"), whole.substr(0, whole.size() * 2 / 3));
+    const std::string cut = error_of<clsph::Error>([&] { (void)clsph::read_vtu(dir.file("short.vtu")); });
+    CHECK(cut.find(dir.file("short.vtu") + ": array ") == 0);
+    // A flipped byte inside the first array's compressed data (after its 4-block header).
+    std::string flipped = whole;
+    const std::size_t data = flipped.find('_', flipped.find("<AppendedData")) + 1 + 4 * 8 + 20;
+    flipped[data] = static_cast<char>(flipped[data] ^ 0x5a);
+    scene_test::write_text(dir.file("flipped.vtu"), flipped);
+    const std::string bad = error_of<clsph::Error>([&] { (void)clsph::read_vtu(dir.file("flipped.vtu")); });
+    CHECK(bad.find(dir.file("flipped.vtu") + ": array id: block 0") == 0);
+    // Another compressor is named, not misread.
+    std::string lz4 = whole;
+    lz4.replace(lz4.find("vtkZLibDataCompressor"), 21, "vtkLZ4DataCompressor");
+    scene_test::write_text(dir.file("lz4.vtu"), lz4);
+    CHECK(error_of<clsph::Error>([&] { (void)clsph::read_vtu(dir.file("lz4.vtu")); }).find("vtkLZ4DataCompressor") != std::string::npos);
+}
+
+TEST_CASE("a .pvtu index reads back as its pieces concatenated, raw or compressed") {
+    std::mt19937 rng(scene_test::fresh_seed());
+    scene_test::TempDir dir;
+    const clsph::Particles a = random_particles(1000 + rng() % 3000, rng), b = random_particles(0, rng),
+                           c = random_particles(1 + rng() % 3000, rng);
+    clsph::write_vtu(dir.file("f_p0.vtu"), a);
+    clsph::write_vtu(dir.file("f_p1.vtu"), b, clsph::FrameFields{}, clsph::VtuFormat{true, 1});
+    clsph::write_vtu(dir.file("f_p2.vtu"), c, clsph::FrameFields{}, clsph::VtuFormat{true, 2});
+    clsph::write_pvtu(dir.file("f.pvtu"), {"f_p0.vtu", "f_p1.vtu", "f_p2.vtu"}, clsph::FrameFields{});
+    CHECK(clsph::read_pvtu_sources(dir.file("f.pvtu")) == std::vector<std::string>{"f_p0.vtu", "f_p1.vtu", "f_p2.vtu"});
+    clsph::Particles all = a;
+    for (std::size_t i = 0; i < c.size(); ++i) all.push_back(c.id[i], c.type[i], c.position[i], c.velocity[i], c.density[i], c.pressure[i]);
+    check_equal(all, clsph::read_vtu(dir.file("f.pvtu")));
+    const std::string text = read_text(dir.file("f.pvtu"));
+    for (const char* s : {"type=\"PUnstructuredGrid\"", "<PPointData", "<PDataArray type=\"UInt32\" Name=\"id\"/>",
+                          "<PDataArray type=\"Float32\" Name=\"velocity\" NumberOfComponents=\"3\"/>", "<PPoints>",
+                          "<PDataArray type=\"Float64\" Name=\"position\" NumberOfComponents=\"3\"/>", "<Piece Source=\"f_p2.vtu\"/>"})
+        CHECK_MESSAGE(text.find(s) != std::string::npos, s);
+    // Chosen fields: declared as written, reported as present.
+    clsph::FrameFields f = clsph::FrameFields::parse("id,density");
+    clsph::write_vtu(dir.file("g_p0.vtu"), a, f);
+    clsph::write_pvtu(dir.file("g.pvtu"), {"g_p0.vtu"}, f);
+    CHECK(read_text(dir.file("g.pvtu")).find("Name=\"velocity\"") == std::string::npos);
+    clsph::FrameFields present;
+    CHECK(clsph::read_vtu(dir.file("g.pvtu"), &present).size() == a.size());
+    CHECK((present.id && present.density && !present.velocity && !present.type && !present.pressure));
+    // A missing piece is named.
+    clsph::write_pvtu(dir.file("h.pvtu"), {"f_p0.vtu", "gone.vtu"}, clsph::FrameFields{});
+    CHECK(error_of<clsph::Error>([&] { (void)clsph::read_vtu(dir.file("h.pvtu")); }).find(dir.file("gone.vtu")) != std::string::npos);
 }

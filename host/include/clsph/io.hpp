@@ -27,7 +27,24 @@ struct FrameFields {
 // write_vtu with only the chosen point-data arrays (and write_csv with only their columns).
 void write_vtu(const std::string& path, const Particles& particles, const FrameFields& fields);
 
-// Reads a file written by write_vtu (not VTU files in general: for round-trip tests and tools).
+// How a VTU frame is encoded: raw (the default), or compressed as ParaView reads it
+// (compressor="vtkZLibDataCompressor": each array in zlib blocks of 64 KiB, `clsph run --compress`),
+// by up to `threads` threads at once.
+struct VtuFormat {
+    bool compress = false;
+    unsigned threads = 1;
+};
+void write_vtu(const std::string& path, const Particles& particles, const FrameFields& fields, const VtuFormat& format);
+
+// One frame as pieces (`clsph run --pieces`: one VTU per device): the parallel index (.pvtu) that
+// makes the VTU files `pieces` (as the index should name them: relative to its directory) one
+// dataset in ParaView, declaring the arrays `fields` chose as write_vtu writes them.
+void write_pvtu(const std::string& path, const std::vector<std::string>& pieces, const FrameFields& fields);
+// The pieces a .pvtu written by write_pvtu names, as it names them.
+std::vector<std::string> read_pvtu_sources(const std::string& path);
+
+// Reads a file written by write_vtu, raw or compressed (not VTU files in general: for round-trip
+// tests and tools), or an index written by write_pvtu: its pieces in order, concatenated.
 // Every array must be there; with `present`, arrays a chosen-fields frame left out are allowed,
 // left at zero and reported in *present.
 Particles read_vtu(const std::string& path);

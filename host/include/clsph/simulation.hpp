@@ -144,6 +144,9 @@ public:
     void run_until(double t, const std::function<void(const StepInfo&)>& on_step = {});
 
     Particles particles();                   // host copy, pressure filled in
+    // The same, one part per device (in device_names() order): the particles each owns now,
+    // downloaded by one thread per device. last_good() becomes their concatenation.
+    std::vector<Particles> particles_by_device();
     const Particles& last_good() const;
     const StepInfo& info() const;
     double time() const;

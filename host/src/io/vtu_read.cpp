@@ -1,10 +1,12 @@
 // Reading back what write_vtu writes (round-trip tests, tools): the header's DataArray tags give
-// each array's type and offset into the appended data.
+// each array's type and offset into the appended data, raw or zlib-compressed; a .pvtu is read as
+// its pieces (io/pvtu.cpp).
 #include "clsph/error.hpp"
 #include "clsph/io.hpp"
 #include "io/file.hpp"
 #include "io/vtu_format.hpp"
 #include "io/xml.hpp"
+#include "io/zlib_blocks.hpp"
 
 #include <cstdint>
 #include <cstring>
@@ -17,6 +19,7 @@ struct VtuFile {
     std::string path, bytes, header;
     std::size_t data = 0;  // offset of the byte after '_'
     std::size_t points = 0;
+    bool compressed = false;  // compressor="vtkZLibDataCompressor"
 
     [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 
@@ -35,6 +38,11 @@ struct VtuFile {
             const std::size_t at = data + std::stoull(*offset);
             std::uint64_t size = 0;
             const std::uint64_t want = points * a.components * a.bytes;
+            if (compressed) {
+                if (at > bytes.size()) fail(std::string("array ") + a.name + " lies beyond the end of the file");
+                io::zlib_uncompress(bytes.data() + at, bytes.size() - at, dest, want, path + ": array " + a.name);
+                return true;
+            }
             if (at + sizeof size > bytes.size()) fail(std::string("array ") + a.name + " lies beyond the end of the file");
             std::memcpy(&size, bytes.data() + at, sizeof size);
             if (size != want || at + sizeof size + size > bytes.size())
@@ -52,7 +60,8 @@ struct VtuFile {
 Particles read_vtu(const std::string& path) { return read_vtu(path, nullptr); }
 
 Particles read_vtu(const std::string& path, FrameFields* present) {
-    VtuFile f{path, io::read_file(path), {}, 0, 0};
+    if (path.size() > 5 && path.compare(path.size() - 5, 5, ".pvtu") == 0) return io::read_pvtu(path, present);
+    VtuFile f{path, io::read_file(path), {}, 0, 0, false};
     const std::size_t appended = f.bytes.find("<AppendedData");
     const std::size_t marker = appended == std::string::npos ? appended : f.bytes.find('_', appended);
     if (marker == std::string::npos) f.fail("not a VTU file with appended raw data (as write_vtu writes)");
@@ -65,6 +74,10 @@ Particles read_vtu(const std::string& path, FrameFields* present) {
     const std::string order = io::host_is_little_endian() ? "LittleEndian" : "BigEndian";
     if (io::xml_attribute(file_tags[0], "byte_order") != order) f.fail("byte order is not this host's " + order);
     if (io::xml_attribute(file_tags[0], "header_type") != std::string("UInt64")) f.fail("block headers are not UInt64");
+    if (const auto compressor = io::xml_attribute(file_tags[0], "compressor")) {
+        if (*compressor != "vtkZLibDataCompressor") f.fail("compressor " + *compressor + " is not vtkZLibDataCompressor");
+        f.compressed = true;
+    }
     const auto pieces = io::xml_tags(f.header, "Piece");
     if (pieces.size() != 1) f.fail("expected exactly one Piece");
     try {
