@@ -4,6 +4,8 @@
 #include "make_simulation.hpp"
 #include "progress.hpp"
 
+#include <clsph/devices.hpp>
+#include <clsph/memory_plan.hpp>
 #include <clsph/simulation.hpp>
 
 #include <chrono>
@@ -11,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <string>
 
 namespace clsph::app {
@@ -37,6 +40,50 @@ std::string vec_text(const Vec3& v) {
 constexpr double csv_bytes_per_particle = 120.0;
 // A stats.csv row.
 constexpr double stats_bytes_per_step = 70.0;
+
+void print_plan(const MemoryPlan& mp) {
+    char text[512];
+    const double n = static_cast<double>(mp.particles);
+    std::cout << "  memory plan (predicted on the host, nothing allocated) for " << mp.particles << " particles on "
+              << mp.devices.size() << (mp.devices.size() == 1 ? " device" : " devices") << ":\n";
+    for (std::size_t d = 0; d < mp.devices.size(); ++d) {
+        const auto& x = mp.devices[d];
+        std::snprintf(text, sizeof text, "  #%zu %s: %zu particles owned, arrays for %zu, %zu non-empty cells\n",
+                      x.device.index, x.device.name.c_str(), x.particles, x.capacity, x.cells);
+        std::cout << text;
+        std::snprintf(text, sizeof text, "    %-34s %12s %10s  %s\n", "buffer", "bytes", "B/particle", "");
+        std::cout << text;
+        for (const auto& b : x.buffers) {
+            std::snprintf(text, sizeof text, "    %-34s %12zu %10.2f  %s\n", b.name.c_str(), b.bytes,
+                          n > 0 ? static_cast<double>(b.bytes) / n : 0.0, b.scales ? "" : "(fixed)");
+            std::cout << text;
+        }
+        const auto& big = x.largest();
+        std::snprintf(text, sizeof text,
+                      "    %-34s %12zu %10.2f  (%s; %zu B fixed)\n    largest buffer '%s': %s, a single allocation may be "
+                      "%s (CL_DEVICE_MAX_MEM_ALLOC_SIZE)%s\n",
+                      "total", x.total_bytes(), n > 0 ? static_cast<double>(x.total_bytes()) / n : 0.0,
+                      bytes_text(static_cast<double>(x.total_bytes())).c_str(), x.fixed_bytes(), big.name.c_str(),
+                      bytes_text(static_cast<double>(big.bytes)).c_str(),
+                      bytes_text(static_cast<double>(x.device.max_allocation)).c_str(),
+                      big.bytes > x.device.max_allocation ? ": TOO LARGE" : "");
+        std::cout << text;
+        const std::size_t most = mp.largest_particles(d);
+        std::snprintf(text, sizeof text,
+                      "    device memory %s (CL_DEVICE_GLOBAL_MEM_SIZE): %s; the largest scene this device's share fits: "
+                      "%zu particles (%.3g), physics.dp = %.3g\n",
+                      bytes_text(static_cast<double>(x.device.global_memory)).c_str(),
+                      x.fits() ? "fits" : "DOES NOT FIT", most, static_cast<double>(most), mp.dp_for(most));
+        std::cout << text;
+    }
+    if (mp.devices.size() > 1) {
+        const std::size_t most = mp.largest_particles();
+        std::snprintf(text, sizeof text, "  the largest scene these devices fit: %zu particles, physics.dp = %.3g\n", most,
+                      mp.dp_for(most));
+        std::cout << text;
+    }
+    for (const auto& note : mp.notes) std::cout << "  note: " << note << '\n';
+}
 
 }  // namespace
 
@@ -95,17 +142,47 @@ int dry_run(const Scene& scene, const RunArgs& args, const RunPlan& plan) {
     if (std::filesystem::exists(plan.out_dir) && !std::filesystem::is_empty(plan.out_dir))
         std::cout << "  note: " << plan.out_dir << " exists and is not empty; the run needs --force or another --out\n";
 
-    std::cout << "  setting up the devices to measure memory (kernels are built, particles uploaded)..." << std::endl;
+    // The memory plan: predicted on the host, nothing allocated (clsph/memory_plan.hpp).
+    Options opts;
+    opts.synchronous = args.synchronous;
+    const auto all = list_devices();
+    std::vector<DeviceInfo> selected;
+    for (auto i : select_devices(all, args.devices.empty() ? default_device_spec() : args.devices)) selected.push_back(all[i]);
+    const MemoryPlan mp = plan_memory(scene, p, selected, opts);
+    print_plan(mp);
+    if (!mp.fits()) check_fits(mp);  // the error a run would stop with, before allocating anything
+
+    std::cout << "  measured: setting up the devices (kernels are built, particles uploaded, one step taken)..." << std::endl;
     const auto t0 = std::chrono::steady_clock::now();
     const auto sim = make_simulation(scene, args);
     const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (const auto& m : sim->memory()) {
-        std::snprintf(text, sizeof text, "  %s: %zu particles, %s of device memory (%.0f B/particle), room for %zu\n",
-                      m.device.c_str(), m.particles, bytes_text(static_cast<double>(m.peak_bytes)).c_str(),
-                      m.bytes_per_particle(), m.capacity_particles);
-        std::cout << text;
-    }
     const double dt0 = sim->step().dt;
+    const auto measured = sim->memory();
+    for (std::size_t d = 0; d < measured.size(); ++d) {
+        const auto& m = measured[d];
+        const double predicted = d < mp.devices.size() ? static_cast<double>(mp.devices[d].total_bytes()) : 0.0;
+        std::snprintf(text, sizeof text,
+                      "  %s: %zu particles, peak %s of device memory (%.0f B/particle); predicted %s (%+.2f %%)\n",
+                      m.device.c_str(), m.particles, bytes_text(static_cast<double>(m.peak_bytes)).c_str(),
+                      m.bytes_per_particle(), bytes_text(predicted).c_str(),
+                      m.peak_bytes ? 100.0 * (predicted - static_cast<double>(m.peak_bytes)) / static_cast<double>(m.peak_bytes) : 0.0);
+        std::cout << text;
+        {
+            // Per buffer, where the measurement and the plan differ by more than 1 % of the total.
+            std::map<std::string, double> plan_by_name;
+            if (d < mp.devices.size())
+                for (const auto& b : mp.devices[d].buffers) plan_by_name[b.name] += static_cast<double>(b.bytes);
+            for (const auto& [name, bytes] : m.peak_buffers) plan_by_name.emplace(name, 0.0);
+            for (const auto& [name, planned] : plan_by_name) {
+                const auto it = m.peak_buffers.find(name);
+                const double got = it == m.peak_buffers.end() ? 0.0 : static_cast<double>(it->second);
+                if (std::abs(got - planned) <= 0.01 * static_cast<double>(m.peak_bytes)) continue;
+                std::snprintf(text, sizeof text, "    %-34s measured %s, predicted %s\n", name.c_str(),
+                              bytes_text(got).c_str(), bytes_text(planned).c_str());
+                std::cout << text;
+            }
+        }
+    }
     std::snprintf(text, sizeof text, "  first time step (one step taken): %.3g s; set-up took %s\n", dt0,
                   format_duration(setup).c_str());
     std::cout << text;

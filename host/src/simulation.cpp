@@ -4,6 +4,7 @@
 #include "cl/errors.hpp"
 #include "render/scene_image.hpp"
 #include "surface/extract.hpp"
+#include "clsph/memory_plan.hpp"
 #include "clsph/testing.hpp"
 
 #include <chrono>
@@ -111,6 +112,7 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c) {
     auto& m = *this;
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
+    check_fits(plan_memory(scene, p, cl_rt::infos(m.devices), options));  // before any allocation
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
         d->profiler().enable(options.profile);
@@ -432,6 +434,7 @@ std::vector<MemoryReport> Simulation::memory() const {
         r.particles = s.store->ranges.owned;
         r.peak_bytes = s.device->memory().counters().peak;
         r.capacity_particles = s.store->capacity();
+        r.peak_buffers = s.device->memory().at_peak();
         out.push_back(r);
     }
     return out;

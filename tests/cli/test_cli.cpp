@@ -156,6 +156,64 @@ TEST_CASE("--dry-run reports and writes nothing") {
     CHECK_FALSE(fs::exists(out));
 }
 
+// A scene far too large for the device: stopped by the memory plan before any buffer is made,
+// with physics.dp and each device's need and memory named. The devices are pocl's with their
+// memory limited to 1 GiB (POCL_MEMORY_LIMIT), so the real scene (dam_break.json's tank at dp 1 mm,
+// about 19 M particles, some 2.5 GiB) is built quickly and fails as it would on a full device.
+TEST_CASE("a scene too large for the devices: exit 1 before allocating, naming physics.dp") {
+    const std::string out = work_dir("too_large");
+    std::vector<std::string> big = tiny;
+    big[1] = "physics.dp=0.001";
+    ::setenv("POCL_MEMORY_LIMIT", "1", 1);
+    for (const bool dry : {false, true}) {
+        CAPTURE(dry);
+        std::string log;
+        std::vector<std::string> a = args({{"run", scene}, big, {"--devices", "platform:pocl", "--out", out}});
+        if (dry) a.push_back("--dry-run");
+        const int code = run(a, log, 300.0);
+        INFO(log);
+        CHECK(code == 1);
+        CHECK(log.find("physics.dp = 0.001: the scene needs") != std::string::npos);
+        CHECK(log.find("which has 1 GiB") != std::string::npos);
+        CHECK(log.find("remain (") == std::string::npos);  // not the tracker's refusal of one buffer
+        CHECK(log.find("setting up the devices") == std::string::npos);
+        CHECK_FALSE(fs::exists(out));
+        if (dry) CHECK(log.find("DOES NOT FIT") != std::string::npos);
+    }
+    ::unsetenv("POCL_MEMORY_LIMIT");
+}
+
+TEST_CASE("--dry-run: the memory plan first, then the measured peak within 2 % of it") {
+    const std::string out = work_dir("dry_run_plan");
+    std::string log;
+    // One device: with several, --balance dynamic's calibration sizes the stores by its samples.
+    const int code = run(args({{"run", scene}, tiny, {"--dry-run", "--devices", "0", "--out", out}}), log);
+    INFO(log);
+    REQUIRE(code == 0);
+    const auto plan = log.find("memory plan (predicted on the host, nothing allocated)");
+    const auto measured = log.find("measured: setting up the devices");
+    REQUIRE(plan != std::string::npos);
+    REQUIRE(measured != std::string::npos);
+    CHECK(plan < measured);
+    for (const char* name : {"particles: positions", "neighbour ranges", "radix sort keys (ping-pong)", "reorder scratch",
+                             "CL_DEVICE_MAX_MEM_ALLOC_SIZE", "CL_DEVICE_GLOBAL_MEM_SIZE", "the largest scene"})
+        CHECK(log.find(name, plan) < measured);
+    // A line per device: "...: N particles, peak X of device memory (...); predicted Y (+0.12 %)".
+    std::istringstream lines(log.substr(measured));
+    std::size_t devices = 0;
+    for (std::string line; std::getline(lines, line);) {
+        if (line.find(", peak ") == std::string::npos || line.find("; predicted ") == std::string::npos) continue;
+        const auto open = line.rfind('('), close = line.rfind(" %)");
+        REQUIRE(open != std::string::npos);
+        REQUIRE(close != std::string::npos);
+        const double error = std::stod(line.substr(open + 1, close - open - 1));
+        CAPTURE(line);
+        CHECK(std::abs(error) < 2.0);
+        ++devices;
+    }
+    CHECK(devices >= 1);
+}
+
 TEST_CASE("an existing output directory is refused without --force, and left alone") {
     const std::string out = work_dir("existing");
     fs::create_directories(out);

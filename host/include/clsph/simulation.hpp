@@ -114,6 +114,9 @@ struct MemoryReport {
     std::size_t particles = 0;
     std::size_t peak_bytes = 0;      // the engine's own device allocations at their peak
     std::size_t capacity_particles = 0;
+    // The buffers held when the peak was reached, bytes by name (clsph/memory_plan.hpp predicts
+    // the same names).
+    std::map<std::string, std::size_t> peak_buffers;
     double bytes_per_particle() const { return particles ? double(peak_bytes) / double(particles) : 0.0; }
 };
 

@@ -116,4 +116,11 @@ private:
 // queue each, in the stable order.
 std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const OpenOptions& options = {});
 
+// What each opened device is (for the memory plan, clsph/memory_plan.hpp).
+inline std::vector<DeviceInfo> infos(const std::vector<std::unique_ptr<Device>>& devices) {
+    std::vector<DeviceInfo> out;
+    for (const auto& d : devices) out.push_back(d->info());
+    return out;
+}
+
 }  // namespace clsph::cl_rt

@@ -42,16 +42,21 @@ Buffer MemoryTracker::allocate(std::size_t bytes, const std::string& what, cl_me
     check(err, doing, label_);
     c.current += bytes;
     c.buffers += 1;
-    if (c.current > c.peak) c.peak = c.current;
-    return Buffer(std::move(buf), bytes, state_);
+    state_->live[what] += bytes;
+    if (c.current > c.peak) {
+        c.peak = c.current;
+        state_->at_peak = state_->live;
+    }
+    return Buffer(std::move(buf), bytes, state_, what);
 }
 
-Buffer::Buffer(cl::Buffer buffer, std::size_t bytes, std::shared_ptr<MemoryTracker::State> state)
-    : buffer_(std::move(buffer)), bytes_(bytes), state_(std::move(state)) {}
+Buffer::Buffer(cl::Buffer buffer, std::size_t bytes, std::shared_ptr<MemoryTracker::State> state, std::string what)
+    : buffer_(std::move(buffer)), bytes_(bytes), state_(std::move(state)), what_(std::move(what)) {}
 
 Buffer::~Buffer() { release(); }
 
-Buffer::Buffer(Buffer&& o) noexcept : buffer_(std::move(o.buffer_)), bytes_(o.bytes_), state_(std::move(o.state_)) {
+Buffer::Buffer(Buffer&& o) noexcept
+    : buffer_(std::move(o.buffer_)), bytes_(o.bytes_), state_(std::move(o.state_)), what_(std::move(o.what_)) {
     o.bytes_ = 0;
 }
 
@@ -61,6 +66,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         buffer_ = std::move(o.buffer_);
         bytes_ = o.bytes_;
         state_ = std::move(o.state_);
+        what_ = std::move(o.what_);
         o.bytes_ = 0;
     }
     return *this;
@@ -70,12 +76,15 @@ void Buffer::swap(Buffer& other) noexcept {
     std::swap(buffer_, other.buffer_);
     std::swap(bytes_, other.bytes_);
     std::swap(state_, other.state_);
+    std::swap(what_, other.what_);
 }
 
 void Buffer::release() noexcept {
     if (state_ && bytes_) {
         state_->counters.current -= bytes_;
         state_->counters.buffers -= 1;
+        const auto it = state_->live.find(what_);
+        if (it != state_->live.end() && (it->second -= bytes_) == 0) state_->live.erase(it);
     }
     bytes_ = 0;
     state_.reset();

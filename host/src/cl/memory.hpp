@@ -5,6 +5,7 @@
 #include "cl/cl.hpp"
 
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -29,11 +30,19 @@ public:
     const MemoryCounters& counters() const { return state_->counters; }
     std::size_t global_memory() const { return state_->global_memory; }
     std::size_t max_allocation() const { return state_->max_allocation; }
-    void reset_peak() { state_->counters.peak = state_->counters.current; }
+    void reset_peak() {
+        state_->counters.peak = state_->counters.current;
+        state_->at_peak = state_->live;
+    }
+    // Bytes held by name (the `what` of allocate), now and when the peak was reached: the measured
+    // side of the memory plan (clsph/memory_plan.hpp), which names its buffers the same way.
+    const std::map<std::string, std::size_t>& live() const { return state_->live; }
+    const std::map<std::string, std::size_t>& at_peak() const { return state_->at_peak; }
 
     struct State {
         MemoryCounters counters;
         std::size_t global_memory = 0, max_allocation = 0;
+        std::map<std::string, std::size_t> live, at_peak;
     };
 
 private:
@@ -47,7 +56,7 @@ private:
 class Buffer {
 public:
     Buffer() = default;
-    Buffer(cl::Buffer buffer, std::size_t bytes, std::shared_ptr<MemoryTracker::State> state);
+    Buffer(cl::Buffer buffer, std::size_t bytes, std::shared_ptr<MemoryTracker::State> state, std::string what = {});
     ~Buffer();
     Buffer(Buffer&&) noexcept;
     Buffer& operator=(Buffer&&) noexcept;
@@ -65,6 +74,7 @@ private:
     cl::Buffer buffer_;
     std::size_t bytes_ = 0;
     std::shared_ptr<MemoryTracker::State> state_;
+    std::string what_;  // the tracker's name for it (its ledger)
 };
 
 }  // namespace clsph::cl_rt

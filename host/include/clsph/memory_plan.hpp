@@ -1,0 +1,66 @@
+// What a run will allocate on each device, predicted on the host without allocating anything: the
+// memory model behind `clsph run --dry-run` and the check that stops a run whose scene cannot fit
+// before its first buffer is made. Every device buffer the engine allocates is listed here under
+// the name the engine's memory tracker gives it (MemoryReport::peak_buffers measures the same),
+// sized by the same rules as the allocations (device/particle_store.cpp, cell_pipeline.cpp,
+// physics.cpp, the sort and scan temporaries, the exchange's boxes). No OpenCL here.
+#pragma once
+#include "clsph/devices.hpp"
+#include "clsph/particles.hpp"
+#include "clsph/scene.hpp"
+#include "clsph/simulation.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+struct PlannedBuffer {
+    std::string name;       // as the engine names it ("particles: positions", "neighbour ranges", ...)
+    std::size_t bytes = 0;  // on this device, for this scene
+    // Grows with the particle count (particle arrays, sort temporaries, cell tables: cells follow
+    // the particles at a fixed dp); false: the same whatever dp (flags, reductions, probe points).
+    bool scales = true;
+};
+
+struct DeviceMemoryPlan {
+    DeviceInfo device;
+    std::size_t particles = 0;  // owned at the start
+    std::size_t capacity = 0;   // particles the arrays hold (the engine's sizing rule)
+    std::size_t cells = 0;      // non-empty cells at the start (the cell tables' size)
+    std::vector<PlannedBuffer> buffers;
+
+    std::size_t total_bytes() const;
+    std::size_t scaling_bytes() const;  // of buffers that grow with the particle count
+    std::size_t fixed_bytes() const { return total_bytes() - scaling_bytes(); }
+    const PlannedBuffer& largest() const;
+    // Within CL_DEVICE_GLOBAL_MEM_SIZE and CL_DEVICE_MAX_MEM_ALLOC_SIZE (a limit of 0: not known).
+    bool fits() const;
+};
+
+struct MemoryPlan {
+    std::size_t particles = 0;  // the scene's
+    double dp = 0;              // the scene's physics.dp
+    std::vector<DeviceMemoryPlan> devices;
+    // Caveats of this prediction for this run (several devices: the split is estimated, ...).
+    std::vector<std::string> notes;
+
+    // The most scene particles for which this device's share still fits its global memory (its
+    // buffers that scale, scaled; the fixed ones kept); the whole selection: the least of these.
+    std::size_t largest_particles(std::size_t device) const;
+    std::size_t largest_particles() const;
+    // The dp that would give `n` particles for this scene's geometry (particle count ~ 1 / dp^3).
+    double dp_for(std::size_t n) const;
+    bool fits() const;
+};
+
+// The plan for `scene` with particles `p` on `devices` (in the selection's order) under `options`
+// (capacity and cell headroom, the step ahead).
+MemoryPlan plan_memory(const Scene& scene, const Particles& p, const std::vector<DeviceInfo>& devices,
+                       const Options& options = {});
+
+// Throws SceneError naming physics.dp, each device's need and capacity, when `plan` does not fit.
+void check_fits(const MemoryPlan& plan);
+
+}  // namespace clsph

@@ -1,0 +1,380 @@
+// The memory model (clsph/memory_plan.hpp): each buffer below is sized as the allocation it stands
+// for sizes it; the file and function of that allocation are named beside it. Pure C++: the grid
+// and the probes' points are host math, the device's parameters come from its DeviceInfo.
+#include "clsph/memory_plan.hpp"
+
+#include "clsph/error.hpp"
+#include "device/grid.hpp"
+#include "probes/gauges.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+
+namespace clsph {
+namespace {
+
+constexpr std::size_t u32 = 4, f4 = 16;
+constexpr std::size_t particle_bytes = 3 * f4 + u32;  // device::ParticleArrays::kBytesPerParticle
+constexpr std::size_t step_record_doubles = 17;        // device::StepRecord::kDoubles
+
+std::size_t ceil_div(std::size_t a, std::size_t b) { return (a + b - 1) / b; }
+
+// Tiles of the sort and the scan on this device (primitives_radix_sort.cpp, primitives_scan.cpp):
+// 256 work-items where the device allows, 16 items each where local memory holds the tile.
+struct Tiles {
+    std::size_t sort = 4096, scan = 4096;
+};
+
+Tiles tiles_of(const DeviceInfo& d) {
+    std::size_t wg = 1;
+    while (wg * 2 <= std::min<std::size_t>(256, d.max_work_group_size ? d.max_work_group_size : 256)) wg *= 2;
+    const std::size_t local = d.local_memory > 2048 ? d.local_memory - 1024 : d.local_memory;  // quirks.cpp
+    auto sort_local = [&](std::size_t items) {
+        const std::size_t tile = wg * items;
+        return u32 * (2 * (tile + tile / 32) + 256 + 2 * wg);
+    };
+    auto scan_local = [&](std::size_t items) {
+        const std::size_t tile = wg * items;
+        return u32 * (2 * wg + (items > 4 ? tile + tile / 32 : 0));
+    };
+    Tiles t;
+    std::size_t items = 4;
+    for (std::size_t i : {16, 8})
+        if (sort_local(i) <= local || local == 0) { items = i; break; }
+    t.sort = wg * items;
+    items = 4;
+    for (std::size_t i : {16, 8})
+        if (scan_local(i) <= local || local == 0) { items = i; break; }
+    t.scan = wg * items;
+    return t;
+}
+
+// One Scan object's tile sums: a buffer per recursion level, each as large as its largest use.
+struct ScanSums {
+    std::vector<std::size_t> level;
+    void use(std::size_t n, std::size_t tile) {
+        for (std::size_t k = 0;; ++k) {
+            const std::size_t groups = ceil_div(n, tile);
+            if (groups <= 1) return;
+            if (level.size() <= k) level.resize(k + 1, 0);
+            level[k] = std::max(level[k], (groups + 1) * u32);
+            n = groups;
+        }
+    }
+    std::size_t bytes() const {
+        std::size_t b = 0;
+        for (auto x : level) b += x;
+        return b;
+    }
+};
+
+// One RadixSort object: ping-pong keys and values as large as the caller's, the digit counts and
+// its scan's tile sums.
+struct SortTemporaries {
+    std::size_t alt = 0, counts = 0;
+    ScanSums sums;
+    void use(std::size_t caller_bytes, std::size_t n, const Tiles& t) {
+        if (n < 2) return;
+        alt = std::max({alt, caller_bytes, n * u32});
+        const std::size_t table = 256 * ceil_div(n, t.sort);
+        counts = std::max(counts, (table + 1) * u32);
+        sums.use(table, t.scan);
+    }
+};
+
+// What one device holds, in particles, at the start (several devices: an estimate of the split).
+struct Share {
+    std::size_t owned = 0, active = 0, capacity = 0, cells = 0;
+    std::size_t window = 0, outbox = 0, inbox = 0, edge = 0, columns = 0;
+};
+
+}  // namespace
+
+std::size_t DeviceMemoryPlan::total_bytes() const {
+    std::size_t b = 0;
+    for (const auto& x : buffers) b += x.bytes;
+    return b;
+}
+
+std::size_t DeviceMemoryPlan::scaling_bytes() const {
+    std::size_t b = 0;
+    for (const auto& x : buffers) b += x.scales ? x.bytes : 0;
+    return b;
+}
+
+const PlannedBuffer& DeviceMemoryPlan::largest() const {
+    static const PlannedBuffer none;
+    if (buffers.empty()) return none;
+    return *std::max_element(buffers.begin(), buffers.end(),
+                             [](const PlannedBuffer& a, const PlannedBuffer& b) { return a.bytes < b.bytes; });
+}
+
+bool DeviceMemoryPlan::fits() const {
+    return (device.global_memory == 0 || total_bytes() <= device.global_memory) &&
+           (device.max_allocation == 0 || largest().bytes <= device.max_allocation);
+}
+
+std::size_t MemoryPlan::largest_particles(std::size_t d) const {
+    const auto& x = devices.at(d);
+    const double per = x.scaling_bytes() ? static_cast<double>(x.scaling_bytes()) / static_cast<double>(particles) : 0.0;
+    const double room = static_cast<double>(x.device.global_memory) - static_cast<double>(x.fixed_bytes());
+    if (per <= 0 || room <= 0) return 0;
+    double n = room / per;
+    // The largest single buffer grows with the scene too: CL_DEVICE_MAX_MEM_ALLOC_SIZE bounds it.
+    const auto& big = x.largest();
+    if (big.scales && big.bytes > 0 && x.device.max_allocation)
+        n = std::min(n, static_cast<double>(x.device.max_allocation) / static_cast<double>(big.bytes) * static_cast<double>(particles));
+    return static_cast<std::size_t>(n);
+}
+
+std::size_t MemoryPlan::largest_particles() const {
+    std::size_t n = devices.empty() ? 0 : SIZE_MAX;
+    for (std::size_t d = 0; d < devices.size(); ++d) n = std::min(n, largest_particles(d));
+    return n;
+}
+
+double MemoryPlan::dp_for(std::size_t n) const {
+    if (n == 0 || particles == 0) return 0;
+    return dp * std::cbrt(static_cast<double>(particles) / static_cast<double>(n));
+}
+
+bool MemoryPlan::fits() const {
+    for (const auto& d : devices)
+        if (!d.fits()) return false;
+    return true;
+}
+
+MemoryPlan plan_memory(const Scene& scene, const Particles& p, const std::vector<DeviceInfo>& devices,
+                       const Options& options) {
+    MemoryPlan plan;
+    plan.particles = p.size();
+    plan.dp = scene.physics.dp;
+    const std::size_t D = std::max<std::size_t>(devices.size(), 1);
+    const device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(),
+                            scene.domain.split_axis, scene.domain.periodic,
+                            device::reach_for(scene.physics.support(), scene.physics.dp));
+    const std::uint32_t invalid = grid.params().invalid_key;
+
+    // Where the particles are: each one's cell key, and the column (split axis) it lies in.
+    std::vector<std::uint32_t> key(p.size());
+    const std::size_t columns = grid.params().n_s;
+    std::vector<std::size_t> per_column(columns, 0);
+    std::uint32_t max_boundary_id = 0;
+    bool any_boundary = false;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        std::array<float, 3> off{};
+        key[i] = grid.locate(p.position[i], off);
+        if (key[i] != invalid) ++per_column[grid.cell_of_key(key[i])[0]];
+        if (p.type[i] == ParticleType::boundary) {
+            any_boundary = true;
+            max_boundary_id = std::max<std::uint32_t>(max_boundary_id, p.id[i]);
+        }
+    }
+    // Distinct non-empty cells in columns [c0, c1).
+    std::vector<std::uint32_t> cells_sorted;
+    cells_sorted.reserve(key.size());
+    for (auto k : key)
+        if (k != invalid) cells_sorted.push_back(k);
+    std::sort(cells_sorted.begin(), cells_sorted.end());
+    cells_sorted.erase(std::unique(cells_sorted.begin(), cells_sorted.end()), cells_sorted.end());
+    auto cells_in = [&](std::size_t c0, std::size_t c1) {
+        std::size_t n = 0;
+        for (auto k : cells_sorted) {
+            const std::size_t c = grid.cell_of_key(k)[0];
+            n += c >= c0 && c < c1;
+        }
+        return n;
+    };
+    auto in_columns = [&](std::size_t c0, std::size_t c1) {
+        std::size_t n = 0;
+        for (std::size_t c = c0; c < std::min(c1, columns); ++c) n += per_column[c];
+        return n;
+    };
+
+    // The split: one device holds every particle; several, contiguous columns of about equal
+    // particle counts (the balancer's first cuts weigh work, which follows the particles).
+    std::vector<Share> shares(D);
+    std::vector<std::size_t> cuts{0};
+    if (D == 1) {
+        cuts.push_back(columns);
+    } else {
+        std::size_t valid = 0;
+        for (auto n : per_column) valid += n;
+        std::size_t acc = 0, c = 0;
+        for (std::size_t d = 1; d < D; ++d) {
+            const double target = static_cast<double>(valid) * static_cast<double>(d) / static_cast<double>(D);
+            while (c < columns && static_cast<double>(acc + per_column[c]) <= target) acc += per_column[c++];
+            cuts.push_back(std::max(c, cuts.back()));
+        }
+        cuts.push_back(columns);
+    }
+    const double headroom = options.capacity_headroom;
+    for (std::size_t d = 0; d < D; ++d) {
+        Share& s = shares[d];
+        const std::size_t first = cuts[d], end = cuts[d + 1];
+        s.columns = end - first;
+        // slab_driver.cpp: capacity p.size() on one device, p.size() / D (1 + headroom) on several;
+        // particle_store.cpp reserve(): a store too small grows to n (1 + headroom) + 1.
+        s.capacity = D == 1 ? p.size() : static_cast<std::size_t>(static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + headroom));
+        s.capacity = std::max<std::size_t>(s.capacity, 1);
+        if (D == 1) {
+            s.owned = p.size();
+            s.active = in_columns(0, columns);
+            s.cells = cells_in(0, columns);
+            s.outbox = s.inbox = 1024;  // exchange.cpp: the boxes exist on one device too, at their least
+            continue;
+        }
+        s.owned = in_columns(first, end);
+        // Ghosts: one column either side (partition.cpp needs()).
+        const std::size_t g0 = first > 0 ? first - 1 : 0, g1 = std::min(end + 1, columns);
+        s.active = in_columns(g0, g1);
+        s.cells = cells_in(g0, g1);
+        auto grow = [&](std::size_t n) {
+            if (n > s.capacity) s.capacity = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom)) + 1;
+        };
+        grow(s.owned);
+        grow(s.active);
+        // exchange.cpp: windows of two columns at each edge with a neighbour go out; the neighbours'
+        // edge columns come in.
+        std::size_t total = 0, arrivals = 0;
+        if (d > 0) {
+            s.window = std::max(s.window, in_columns(first, std::min(first + 2, end)));
+            total += in_columns(first, std::min(first + 2, end));
+            arrivals += in_columns(g0, first);
+        }
+        if (d + 1 < D) {
+            s.window = std::max(s.window, in_columns(end > first + 2 ? end - 2 : first, end));
+            total += in_columns(end > first + 2 ? end - 2 : first, end);
+            arrivals += in_columns(end, g1);
+        }
+        s.outbox = total + total / 4 + 1024;
+        s.inbox = arrivals + arrivals / 4 + 1024;
+        // The merge sorts only the edges (cell_pipeline.cpp enqueue_edge_sort) on slabs of 4 or more
+        // columns, from the second exchange on: not planned here (its keys, values and sort
+        // temporaries, about 24 B per edge particle, come later in the run).
+    }
+
+    const bool mdbc = scene.boundary_method == BoundaryMethod::mdbc;
+    const std::size_t probe_points = scene.probes.empty() ? 0 : probes::sample_points(scene).points.size();
+    const bool ahead = D == 1 && !options.synchronous && options.steps_ahead > 0 &&
+                       scene.physics.integrator != Integrator::symplectic;
+
+    for (std::size_t d = 0; d < D; ++d) {
+        const Share& s = shares[d];
+        DeviceMemoryPlan x;
+        if (d < devices.size()) x.device = devices[d];
+        x.particles = s.owned;
+        x.capacity = s.capacity;
+        x.cells = s.cells;
+        const Tiles t = tiles_of(x.device);
+        auto add = [&](const std::string& name, std::size_t bytes, bool scales = true) {
+            if (bytes) x.buffers.push_back({name, bytes, scales});
+        };
+        const std::size_t cap = s.capacity;
+        // particle_arrays.cpp allocate() through particle_store.cpp allocate().
+        add("particles: positions", cap * f4);
+        add("particles: velocity+density", cap * f4);
+        add("particles: acceleration+drho/dt", cap * f4);
+        add("particles: ids", cap * u32);
+        add("sort keys", (cap + 1) * u32);
+        add("sort values / cell index", (cap + 1) * u32);
+        add("reorder scratch", cap * f4);
+        // The cell sort (primitives_radix_sort.cpp), sorting the active particles.
+        SortTemporaries sort, edge_sort;
+        sort.use((cap + 1) * u32, D == 1 ? p.size() : s.active, t);  // the first sort holds those outside too
+        // The edge sort of several devices: its own sort and buffers (cell_pipeline.cpp).
+        if (s.edge) edge_sort.use(s.edge * u32, s.edge, t);
+        add("radix sort keys (ping-pong)", sort.alt + edge_sort.alt);
+        add("radix sort values (ping-pong)", sort.alt + edge_sort.alt);
+        add("radix sort digit counts", sort.counts + edge_sort.counts);
+        // The cell pipeline's own scan (cell flags over the active particles; exchange flags).
+        ScanSums cell_scan;
+        cell_scan.use(s.active, t.scan);
+        if (s.window) cell_scan.use(s.window, t.scan);
+        add("scan tile sums", cell_scan.bytes() + sort.sums.bytes() + edge_sort.sums.bytes());
+        // cell_pipeline.cpp reserve_cells(): the non-empty cells with the cell headroom, + 16.
+        const std::size_t cc = s.cells + static_cast<std::size_t>(static_cast<double>(s.cells) * options.cell_headroom) + 16;
+        add("cell keys", cc * u32);
+        add("cell starts", (cc + 1) * u32);
+        add("neighbour ranges", cc * grid.rows() * 2 * u32);
+        add("cell count", 2 * u32, false);
+        // physics.cpp's constructor.
+        const std::size_t kick_groups = std::max<std::size_t>(1, std::min<std::size_t>(256, x.device.compute_units * 4u));
+        add("kick reductions", kick_groups * 4 * sizeof(float), false);
+        add("failure flag", u32, false);
+        add("time step", sizeof(float), false);
+        add("halt flag", u32, false);
+        add("step clock", 4 * sizeof(double), false);  // with cl_khr_fp64
+        // physics.cpp set_ghost_nodes(): every device holds every boundary particle's, by id.
+        if (mdbc) add("mDBC ghost nodes", (any_boundary ? max_boundary_id + std::size_t{1} : 1) * f4);
+        // exchange.cpp: the boxes particles leave and arrive in (1024 at least, on one device too).
+        for (const char* a : {"positions", "velocity+density", "acceleration+drho/dt"}) {
+            add(std::string("exchange outbox: ") + a, s.outbox * f4, D > 1);
+            add(std::string("exchange inbox: ") + a, s.inbox * f4, D > 1);
+        }
+        add("exchange outbox: ids", s.outbox * u32, D > 1);
+        add("exchange inbox: ids", s.inbox * u32, D > 1);
+        if (D > 1) {
+            // cell_pipeline.cpp: the flags and column thresholds.
+            add("exchange flags", (s.window + s.window / 4 + 1) * u32);
+            add("exchange counters", 3 * u32, false);
+            add("key thresholds", (s.columns + 2) * u32, false);
+            add("located keys", (s.columns + 2) * u32, false);
+            if (s.edge) {
+                add("edge sort keys", s.edge * u32);
+                add("edge sort values", s.edge * u32);
+            }
+        }
+        if (probe_points) {
+            // The step ahead samples in the queue (physics.cpp set_probe_points); otherwise
+            // sample_probes() allocates when first asked (physics.cpp probe()).
+            add(ahead ? "probe points (fixed)" : "probe points", probe_points * f4, false);
+            add(ahead ? "probe sums (fixed)" : "probe sums", probe_points * 2 * sizeof(float), false);
+        }
+        if (ahead) {
+            add("step records", options.steps_ahead * step_record_doubles * sizeof(double), false);
+            add("exchange counters", 3 * u32, false);
+        }
+        plan.devices.push_back(std::move(x));
+    }
+    if (D > 1) {
+        plan.notes.push_back("several devices: the split is estimated as equal particle counts per slab; the "
+                             "balancer's cuts, and with --balance dynamic its calibration (which uploads samples of up "
+                             "to the whole scene, at most 4 M particles, to each device), can make a store larger");
+    }
+    plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
+                         "when the fluid spreads over more cells");
+    return plan;
+}
+
+void check_fits(const MemoryPlan& plan) {
+    if (plan.fits()) return;
+    char text[512];
+    std::snprintf(text, sizeof text, "physics.dp = %g: the scene needs %zu particles (%.3g)", plan.dp, plan.particles,
+                  static_cast<double>(plan.particles));
+    std::string msg = text;
+    const double gib = 1024.0 * 1024.0 * 1024.0;
+    for (const auto& d : plan.devices) {
+        std::snprintf(text, sizeof text, "; %.3g GiB on device '%s' which has %.3g GiB", static_cast<double>(d.total_bytes()) / gib,
+                      d.device.name.c_str(), static_cast<double>(d.device.global_memory) / gib);
+        msg += text;
+        const auto& big = d.largest();
+        if (big.bytes > d.device.max_allocation) {
+            std::snprintf(text, sizeof text, " (its largest buffer, '%s', needs %.3g GiB but one allocation may be at most %.3g GiB)",
+                          big.name.c_str(), static_cast<double>(big.bytes) / gib,
+                          static_cast<double>(d.device.max_allocation) / gib);
+            msg += text;
+        }
+    }
+    const std::size_t n = plan.largest_particles();
+    if (n > 0) {
+        std::snprintf(text, sizeof text, ". At most about %zu particles fit these devices: physics.dp >= %.3g", n, plan.dp_for(n));
+        msg += text;
+    }
+    throw SceneError(msg + " (clsph run --dry-run prints the memory plan)");
+}
+
+}  // namespace clsph
