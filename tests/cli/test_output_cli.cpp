@@ -1,6 +1,8 @@
-// Frames that scale (issue 20, in part): --output-stride K and --output-box thin every frame and its
-// CSV twin to the particles asked for, read back by clsph's own reader and checked against a full
-// run's frames; clsph surface refuses thinned frames; bad values exit 1 naming the option.
+// Frames that scale (issue 20): --output-stride K and --output-box thin every frame and its CSV twin
+// to the particles asked for, read back by clsph's own reader and checked against a full run's
+// frames; clsph surface refuses thinned frames; bad values exit 1 naming the option. --compress
+// writes zlib-compressed frames equal to the raw ones; --pieces a VTU per device and a .pvtu whose
+// pieces hold every particle once (two pocl devices, else skipped with a message).
 #include "support.hpp"
 
 #include <clsph/error.hpp>
