@@ -158,12 +158,12 @@ TEST_CASE("--dry-run reports and writes nothing") {
 
 // A scene far too large for the device: stopped by the memory plan before any buffer is made,
 // with physics.dp and each device's need and memory named. The devices are pocl's with their
-// memory limited to 1 GiB (POCL_MEMORY_LIMIT), so the real scene (dam_break.json's tank at dp 1 mm,
-// about 19 M particles, some 2.5 GiB) is built quickly and fails as it would on a full device.
+// memory limited to 1 GiB (POCL_MEMORY_LIMIT), so the real scene (the tiny tank at dp 0.7 mm,
+// about 24 M particles, some 1.5 GiB a device) fails as it would on a full device.
 TEST_CASE("a scene too large for the devices: exit 1 before allocating, naming physics.dp") {
     const std::string out = work_dir("too_large");
     std::vector<std::string> big = tiny;
-    big[1] = "physics.dp=0.001";
+    big[1] = "physics.dp=0.0007";
     ::setenv("POCL_MEMORY_LIMIT", "1", 1);
     for (const bool dry : {false, true}) {
         CAPTURE(dry);
@@ -173,7 +173,7 @@ TEST_CASE("a scene too large for the devices: exit 1 before allocating, naming p
         const int code = run(a, log, 300.0);
         INFO(log);
         CHECK(code == 1);
-        CHECK(log.find("physics.dp = 0.001: the scene needs") != std::string::npos);
+        CHECK(log.find("physics.dp = 0.0007: the scene needs") != std::string::npos);
         CHECK(log.find("which has 1 GiB") != std::string::npos);
         CHECK(log.find("remain (") == std::string::npos);  // not the tracker's refusal of one buffer
         CHECK(log.find("setting up the devices") == std::string::npos);
