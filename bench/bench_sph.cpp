@@ -16,6 +16,8 @@
 #include <map>
 #include <iostream>
 
+#include <sys/resource.h>
+
 namespace {
 // Writes a timeline (device, command, start ns, end ns) as CSV and prints, per device, where it
 // idles: the gaps between one command's end and the next one's start, summed by the command that
@@ -67,6 +69,10 @@ int main(int argc, char** argv) {
     std::string interaction = "auto";
     std::string balance = "dynamic", balance_log, trace;
     bool synchronous = false;
+    std::size_t max_steps = 0;
+    std::string scene_file;
+    app.add_option("--scene", scene_file, "a scene file instead of the built-in SPHERIC-2 (its dp replaced by --dp; its probes sampled at the end)");
+    app.add_option("--steps", max_steps, "time at most N steps (0: no limit; a billion particles: a few)");
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
@@ -82,6 +88,10 @@ int main(int argc, char** argv) {
         using clock = std::chrono::steady_clock;
         const auto t0 = clock::now();
         clsph::Scene scene = clsph::bench::spheric2_scene(dp);
+        if (!scene_file.empty()) {
+            scene = clsph::Scene::from_file(scene_file);
+            scene.physics.dp = dp;
+        }
         clsph::Options opts;
         opts.devices = devices;
         opts.profile = true;
@@ -90,11 +100,18 @@ int main(int argc, char** argv) {
         opts.balance_log = balance_log;
         opts.trace = !trace.empty();
         opts.synchronous = synchronous;  // default: steps ahead of the host on one device (issue 15)
+        if (max_steps) opts.step_limit = max_steps;
+        opts.on_setup = [t0](const std::string& line) {
+            std::fprintf(stderr, "  set-up %.1f s: %s\n", std::chrono::duration<double>(clock::now() - t0).count(), line.c_str());
+        };
         clsph::Simulation sim(scene, opts);
         const double setup = std::chrono::duration<double>(clock::now() - t0).count();
-        const auto p = sim.particles();
-        std::size_t fluid = 0;
-        for (auto t : p.type) fluid += t == clsph::ParticleType::fluid;
+        // Counted on the devices: no particle comes to the host (a billion would be ~50 GB).
+        struct {
+            std::size_t size() const { return n; }
+            std::size_t n;
+        } const p{sim.info().particles};
+        const std::size_t fluid = sim.info().fluid;
         std::printf("## SPHERIC-2, dp = %g m, interaction %s (%s)\n\n", dp, interaction.c_str(),
                     clsph::bench::today().c_str());
         for (const auto& sh : sim.shares())
@@ -120,10 +137,14 @@ int main(int argc, char** argv) {
         for (const auto& sh : sim.shares()) received0 += sh.received_bytes;
         const auto t1 = clock::now();
         double steps = 0;
-        sim.run_until(until, [&](const clsph::StepInfo& s) {
-            steps = static_cast<double>(s.step);
-            if (s.step % 500 == 0) std::fprintf(stderr, "  t = %.4f s, %llu steps\n", s.time, (unsigned long long)s.step);
-        });
+        if (max_steps) {
+            for (std::size_t k = 0; k < max_steps && sim.time() < until; ++k) steps = static_cast<double>(sim.step().step);
+        } else {
+            sim.run_until(until, [&](const clsph::StepInfo& s) {
+                steps = static_cast<double>(s.step);
+                if (s.step % 500 == 0) std::fprintf(stderr, "  t = %.4f s, %llu steps\n", s.time, (unsigned long long)s.step);
+            });
+        }
         const double wall = std::chrono::duration<double>(clock::now() - t1).count();
         std::printf("steps: %.0f to t = %.3f s; wall %.2f s\n", steps, sim.time(), wall);
         std::printf("**%.2f ms/step**, %.0f wall s per simulated s, %.3g particle-steps/s\n\n", 1e3 * wall / steps,
@@ -171,6 +192,11 @@ int main(int argc, char** argv) {
             std::printf("memory on %s: peak %.1f MiB for %zu particles = %.1f bytes/particle (capacity %zu)\n",
                         m.device.c_str(), static_cast<double>(m.peak_bytes) / 1048576.0, m.particles, m.bytes_per_particle(),
                         m.capacity_particles);
+        for (const auto& pr : sim.sample_probes())  // sampled on the devices, no particle downloaded
+            std::printf("probe %s at t = %.4f s: %g\n", pr.name.c_str(), sim.time(), pr.value);
+        struct rusage ru {};
+        getrusage(RUSAGE_SELF, &ru);
+        std::printf("peak host memory (max RSS): %.2f GiB\n", static_cast<double>(ru.ru_maxrss) / (1024.0 * 1024.0));
     } catch (const clsph::Error& e) {
         std::cerr << "clsph-bench-sph: " << e.what() << '\n';
         return 1;

@@ -48,10 +48,11 @@ typedef struct {
 // first-order gradient is unreliable.
 #define CLSPH_MDBC_DET 1e-3f
 
-// Particle type bits, in the top bits of the 32-bit id.
-#define CLSPH_TYPE_SHIFT 30u
+// The particle type in the top bit of the 32-bit id word, the id in the low 31 bits (ids up to
+// 2^31 - 1 = 2.1e9 particles; the type needs one bit: fluid or boundary).
+#define CLSPH_TYPE_SHIFT 31u
 #define CLSPH_TYPE_FLUID 0u
 #define CLSPH_TYPE_BOUNDARY 1u
-#define CLSPH_ID_MASK 0x3fffffffu
+#define CLSPH_ID_MASK 0x7fffffffu
 
 #endif

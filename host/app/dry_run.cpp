@@ -92,10 +92,12 @@ int dry_run(const Scene& scene, const RunArgs& args, const RunPlan& plan) {
     char text[512];
     std::cout << "clsph run --dry-run: " << args.scene_path << " (scene \"" << scene.name << "\"); nothing is written\n";
 
-    const Particles p = scene.build_particles();
-    std::size_t fluid = 0;
-    for (auto t : p.type) fluid += t == ParticleType::fluid;
-    std::cout << "  particles: " << p.size() << " (" << fluid << " fluid, " << p.size() - fluid << " boundary)\n";
+    const auto count = scene.count_particles();  // without building them where the scene allows
+    struct {
+        std::size_t size() const { return n; }
+        std::size_t n;
+    } const p{static_cast<std::size_t>(count.total())};
+    std::cout << "  particles: " << count.total() << " (" << count.fluid << " fluid, " << count.boundary << " boundary)\n";
 
     // Cells are at least the kernel support wide; the engine keeps only the non-empty ones.
     const double support = ph.support();
@@ -148,7 +150,7 @@ int dry_run(const Scene& scene, const RunArgs& args, const RunPlan& plan) {
     const auto all = list_devices();
     std::vector<DeviceInfo> selected;
     for (auto i : select_devices(all, args.devices.empty() ? default_device_spec() : args.devices)) selected.push_back(all[i]);
-    const MemoryPlan mp = plan_memory(scene, p, selected, opts);
+    const MemoryPlan mp = plan_memory(scene, selected, opts);
     print_plan(mp);
     if (!mp.fits()) check_fits(mp);  // the error a run would stop with, before allocating anything
 

@@ -4,7 +4,10 @@
 #include <clsph/error.hpp>
 #include <clsph/testing.hpp>
 
+#include <chrono>
 #include <cstdlib>
+#include <iomanip>
+#include <iostream>
 
 namespace clsph::app {
 
@@ -17,6 +20,12 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
+    // A long set-up (hundreds of millions of particles) says what it is doing, once it has taken
+    // more than two seconds; a short one stays quiet.
+    opts.on_setup = [start = std::chrono::steady_clock::now()](const std::string& line) {
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (s > 2.0) std::cout << "  set-up, " << std::fixed << std::setprecision(1) << s << std::defaultfloat << " s: " << line << std::endl;
+    };
     // Tests (tests/cli): CLSPH_TEST_FAULT=CALL:N[:DEVICE] makes the Nth OpenCL call of that kind
     // (enqueue, allocation, read, build) on that device fail in the runtime layer, as a driver
     // would fail it, so the whole error path runs as for a real failure (clsph/testing.hpp).

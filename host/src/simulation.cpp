@@ -2,6 +2,7 @@
 #include "simulation_impl.hpp"
 
 #include "cl/errors.hpp"
+#include "device/memory_census.hpp"
 #include "render/scene_image.hpp"
 #include "surface/extract.hpp"
 #include "clsph/memory_plan.hpp"
@@ -75,7 +76,16 @@ BalanceMode balance_mode_from_name(const std::string& name) {
     throw Error("unknown balance mode '" + name + "' (use dynamic, static or off)");
 }
 
-Simulation::Simulation(const Scene& scene, const Options& options) : Simulation(scene, scene.build_particles(), options) {}
+Simulation::Simulation(const Scene& scene, const Options& options) : impl_(std::make_unique<Impl>(scene, options)) {
+    if (options.setup_on_device && scene::LatticePlan::supports(scene)) {
+        if (options.on_setup) options.on_setup("planning the particles of the scene");
+        impl_->plan = scene::LatticePlan::make(scene);
+        impl_->init(Particles(), nullptr, &*impl_->plan);
+    } else {
+        if (options.on_setup) options.on_setup("building the particles of the scene on the host");
+        impl_->init(scene.build_particles(), nullptr);
+    }
+}
 
 Simulation::Simulation(const Scene& scene, const Particles& p, const Options& options)
     : impl_(std::make_unique<Impl>(scene, options)) {
@@ -108,11 +118,13 @@ Simulation::Simulation(const Scene& scene, const Checkpoint& c, const Options& o
     impl_->init(particles_of(c, impl_->grid), &c);
 }
 
-void Simulation::Impl::init(const Particles& p, const Checkpoint* c) {
+void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene::LatticePlan* lattice) {
     auto& m = *this;
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
     m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
-    check_fits(plan_memory(scene, p, cl_rt::infos(m.devices), options));  // before any allocation
+    const auto infos = cl_rt::infos(m.devices);  // before any allocation:
+    check_fits(lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
+                    : plan_memory(scene, p, infos, options));
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
         d->profiler().enable(options.profile);
@@ -132,10 +144,12 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c) {
                 : options.wait == WaitMode::block ? Mode::block
                                                   : Mode::callbacks;
     if (options.seams) dopt.seams = *options.seams;
+    dopt.progress = options.on_setup;
     if (c && c->counts.size() == m.devices.size()) dopt.cuts.assign(c->cuts.begin(), c->cuts.end());
     // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
     const auto k = cl_rt::guarded("setting up the devices", "", [&] {
-        m.driver = std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
+        m.driver = lattice ? std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, *lattice, dopt)
+                        : std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, p, dopt);
         return m.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
     });
     if (k.kick.bad_index >= 0) m.fail(k);
@@ -146,7 +160,8 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c) {
     m.info.max_speed = std::sqrt(k.kick.max_speed2);
     m.info.cells = m.driver->slabs().size() == 1 ? m.driver->slabs()[0].cells->cells() : 0;
     m.dt_next = m.next_dt(k.kick);
-    m.last_good = p;
+    m.last_good = p;  // empty with a plan: the host never held the particles
+    if (lattice) m.fluid_total = static_cast<std::size_t>(lattice->fluid_count);
     for (std::size_t i = 0; i < p.size(); ++i) m.fluid_total += p.type[i] == ParticleType::fluid;
     if (c) m.restore(*c);
     m.setup_ahead();
@@ -352,7 +367,12 @@ std::vector<Particles> Simulation::particles_by_device() {
 
 bool Simulation::steps_ahead() const { return impl_->ahead; }
 
-const Particles& Simulation::last_good() const { return impl_->last_good; }
+const Particles& Simulation::last_good() const {
+    // Set up on the devices and nothing downloaded yet: the last good state is the scene's start,
+    // built on the host only now that it is asked for.
+    if (impl_->last_good.size() == 0 && impl_->plan) impl_->last_good = impl_->plan->particles();
+    return impl_->last_good;
+}
 const StepInfo& Simulation::info() const { return impl_->info; }
 double Simulation::time() const { return impl_->info.time; }
 const Scene& Simulation::scene() const { return impl_->scene; }

@@ -13,6 +13,7 @@
 #include "device/physics.hpp"
 #include "multi/slab_driver.hpp"
 #include "probes/gauges.hpp"
+#include "scene/lattice_plan.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -20,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace clsph {
@@ -32,7 +34,8 @@ struct Simulation::Impl {
     std::unique_ptr<multi::SlabDriver> driver;
     StepInfo info;
     double dt_next = 0.0;
-    Particles last_good;
+    Particles last_good;  // set-up on the devices: empty until a download (last_good() builds it from plan)
+    std::optional<scene::LatticePlan> plan;  // set-up on the devices: the scene's particles, described
     double last_good_time = 0.0;
     std::size_t fluid_total = 0;
     std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
@@ -57,7 +60,8 @@ struct Simulation::Impl {
 
     // The constructors: the devices, the driver and the first force pass; with a checkpoint, its
     // arrays and counters in place of what the first pass left.
-    void init(const Particles& p, const Checkpoint* c);
+    // `plan`: set-up on the devices (p unused), else p uploaded.
+    void init(const Particles& p, const Checkpoint* c, const scene::LatticePlan* plan = nullptr);
     void restore(const Checkpoint& c);
 
     // The synchronous path's failure: the particle read from the device now.

@@ -24,7 +24,7 @@ private:
     std::string path_, reason_;
 };
 
-constexpr std::uint32_t kCheckpointFormat = 1;
+constexpr std::uint32_t kCheckpointFormat = 2;  // 2: the type in the top bit of the id word (1: two bits)
 
 struct Checkpoint {
     std::uint32_t format = kCheckpointFormat;

@@ -60,6 +60,10 @@ struct MemoryPlan {
 MemoryPlan plan_memory(const Scene& scene, const Particles& p, const std::vector<DeviceInfo>& devices,
                        const Options& options = {});
 
+// The same for the scene's own particles, counted from its lattice without building them when set-up
+// is on the devices (Options::setup_on_device, a scene without meshes), else built on the host.
+MemoryPlan plan_memory(const Scene& scene, const std::vector<DeviceInfo>& devices, const Options& options = {});
+
 // Throws SceneError naming physics.dp, each device's need and capacity, when `plan` does not fit.
 void check_fits(const MemoryPlan& plan);
 

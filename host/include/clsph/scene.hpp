@@ -139,6 +139,13 @@ struct Scene {
     Particles build_particles() const;
     // The speed of sound the run uses (c0, or coefsound * sqrt(g H)).
     double sound_speed() const;
+    // How many particles build_particles() gives; without building them when the scene has no
+    // meshes (counted from its lattice, so a billion-particle scene is counted in seconds).
+    struct Count {
+        std::uint64_t fluid = 0, boundary = 0;
+        std::uint64_t total() const { return fluid + boundary; }
+    };
+    Count count_particles() const;
 };
 
 }  // namespace clsph

@@ -57,6 +57,13 @@ struct Options {
     // --steps: the step ahead enqueues no step past this one (0: no limit), so a run stopped there
     // by the step callback has taken exactly that many steps (run_until returns there, short of t).
     std::uint64_t step_limit = 0;
+    // Scenes of walls, boxes and fluid blocks (no meshes, at most 64 blocks): each device generates
+    // its own slab's particles (set-up on the device); the host never holds them all, so
+    // last_good() is empty until particles() is first called. Off: built by
+    // Scene::build_particles() on the host and uploaded (the same particles, slower).
+    bool setup_on_device = true;
+    // A line per stage of the set-up (planning, timing the devices, generating, sorting); empty: quiet.
+    std::function<void(const std::string&)> on_setup;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
     std::shared_ptr<const testing::Seams> seams;
 };

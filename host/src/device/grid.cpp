@@ -107,25 +107,37 @@ std::array<std::uint32_t, 3> Grid::cell_of_key(std::uint32_t k) const {
             (k & p_.mask_b) - static_cast<std::uint32_t>(reach_)};
 }
 
-std::uint32_t Grid::locate(const std::array<double, 3>& x, std::array<float, 3>& offset) const {
+bool Grid::locate_axis(int pos, double x, std::uint32_t& cell, float& offset) const {
     const double cells[3] = {p_.cell_s, p_.cell_a, p_.cell_b};
     const std::uint32_t counts[3] = {p_.n_s, p_.n_a, p_.n_b};
+    const int k = axis_[pos];
+    double rel = x - domain_.lo[k];
+    if (periodic_[k]) {  // wrap into [0, L) first; cells divide a periodic axis exactly
+        const double len = cells[pos] * counts[pos];
+        rel -= std::floor(rel / len) * len;
+    }
+    double ci = std::floor(rel / cells[pos]);
+    if (periodic_[k] && ci >= counts[pos]) ci = counts[pos] - 1.0;  // rel rounded up to len
+    if (!(ci >= 0) || ci >= counts[pos]) return false;
+    cell = static_cast<std::uint32_t>(ci);
+    offset = static_cast<float>(rel - (ci + 0.5) * cells[pos]);
+    return true;
+}
+
+std::uint32_t Grid::key_part(int pos, std::uint32_t cell) const {
+    if (pos == 0) return p_.shift_s >= 32 ? 0u : (cell << p_.shift_s);
+    if (pos == 1) return cell << p_.shift_a;
+    return cell + static_cast<std::uint32_t>(reach_);
+}
+
+std::uint32_t Grid::locate(const std::array<double, 3>& x, std::array<float, 3>& offset) const {
     std::uint32_t c[3];
     for (int pos = 0; pos < 3; ++pos) {
         const int k = axis_[pos];
-        double rel = x[k] - domain_.lo[k];
-        if (periodic_[k]) {  // wrap into [0, L) first; cells divide a periodic axis exactly
-            const double len = cells[pos] * counts[pos];
-            rel -= std::floor(rel / len) * len;
-        }
-        double ci = std::floor(rel / cells[pos]);
-        if (periodic_[k] && ci >= counts[pos]) ci = counts[pos] - 1.0;  // rel rounded up to len
-        if (!(ci >= 0) || ci >= counts[pos]) {
+        if (!locate_axis(pos, x[k], c[pos], offset[k])) {
             offset = {0, 0, 0};
             return p_.invalid_key;
         }
-        c[pos] = static_cast<std::uint32_t>(ci);
-        offset[k] = static_cast<float>(rel - (ci + 0.5) * cells[pos]);
     }
     return key(c[0], c[1], c[2]);
 }

@@ -48,6 +48,12 @@ public:
 
     // A position (xyz, double) as cell key + offset from the cell centre (xyz, float). Positions
     // outside the domain (after periodic wrap) give invalid_key.
+    // One axis of locate(): the cell index along key position `pos` (of axis axis(pos)) and the
+    // offset from that cell's centre; false when the coordinate is outside the domain. locate()
+    // is the three axes together, so a per-axis table reproduces its keys and offsets exactly.
+    bool locate_axis(int pos, double x, std::uint32_t& cell, float& offset) const;
+    // A key is the OR of its three positions' parts (key(s, a, b) == part(0, s) | part(1, a) | part(2, b)).
+    std::uint32_t key_part(int pos, std::uint32_t cell) const;
     std::uint32_t locate(const std::array<double, 3>& x, std::array<float, 3>& offset) const;
     // Back to an absolute position (double).
     std::array<double, 3> position(std::uint32_t key, const std::array<float, 3>& offset) const;

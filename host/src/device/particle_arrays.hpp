@@ -2,7 +2,7 @@
 //   pos     float4  offset from the cell centre (xyz) + cell key bits (w)   — see grid.hpp
 //   velrho  float4  velocity (xyz) + density (w)
 //   accel   float4  acceleration (xyz) + drho/dt (w) of the last force pass (the second kick needs it)
-//   id      uint    id (low 30 bits) + type (top 2 bits)
+//   id      uint    id (low 31 bits) + type (top bit)
 // The particle store, the exchange's outbox and inbox hold particles as ParticleArrays; a block
 // staged in host memory holds m of them as [pos m | velrho m | accel m | id m].
 #pragma once

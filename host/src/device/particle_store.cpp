@@ -55,7 +55,7 @@ void ParticleStore::upload(const Particles& p) {
         std::memcpy(&hp[4 * i + 3], &key, sizeof key);
         for (int k = 0; k < 3; ++k) hv[4 * i + k] = p.velocity[i][k];
         hv[4 * i + 3] = p.density[i];
-        if (p.id[i] > CLSPH_ID_MASK) throw Error("particle id " + std::to_string(p.id[i]) + " is above the 2^30 limit");
+        if (p.id[i] > CLSPH_ID_MASK) throw Error("particle id " + std::to_string(p.id[i]) + " is above the 2^31 - 1 limit");
         hid[i] = p.id[i] | (static_cast<std::uint32_t>(p.type[i]) << CLSPH_TYPE_SHIFT);
     }
     device_.write(pos, hp.data(), 4 * n);

@@ -5,37 +5,30 @@
 
 namespace clsph::multi {
 
-void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Particles& p, const Census& census,
-               balance::Balancer& balancer) {
+void calibrate(std::vector<Slab>& slabs, const Partition& partition, const ColumnSampler& sample, std::size_t total_count,
+               const Census& census, balance::Balancer& balancer) {
     // Samples are whole columns around the column that halves the work (so they look like the
     // scene: the same neighbour counts, fluid and walls), growing 4x per round from 4096 particles
     // until a device's force pass takes 20 ms, or the sample is the whole scene (at most 4 M
     // particles). The last two rounds give fixed + per-unit cost: a GPU is timed at sizes that fill
     // it, a CPU stops early. Set-up cost: about 2 x (the largest round) per device.
     const std::size_t columns = partition.columns();
-    const std::uint32_t invalid = partition.grid().params().invalid_key;
     const auto& work = census.profile.work;
-    std::vector<std::vector<std::uint32_t>> by_column(columns);
-    for (std::size_t i = 0; i < p.size(); ++i)
-        if (census.key[i] != invalid) by_column[partition.column_of(census.key[i])].push_back(static_cast<std::uint32_t>(i));
+    const auto& count = census.profile.particles;
     double total = 0;
     for (double w : work) total += w;
     std::size_t mid = 0;
     for (double acc = 0; mid + 1 < columns && acc + work[mid] < 0.5 * total; ++mid) acc += work[mid];
     auto sample_of = [&](std::size_t want, double& sampled) {
-        std::size_t lo = mid, hi = mid, count = 0;
+        std::size_t lo = mid, hi = mid, n = 0;
         sampled = 0;
-        while (count < want && (lo > 0 || hi < columns)) {
+        while (n < want && (lo > 0 || hi < columns)) {
             const bool right = hi < columns && (lo == 0 || hi - mid <= mid - lo);
             const std::size_t c = right ? hi++ : --lo;
-            count += by_column[c].size();
+            n += count[c];
             sampled += work[c];
         }
-        Particles out;
-        for (std::size_t c = lo; c < hi; ++c)
-            for (std::uint32_t i : by_column[c])
-                out.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
-        return out;
+        return sample(lo, hi);
     };
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         Slab& s = slabs[d];
@@ -43,12 +36,12 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Parti
         // becomes slow after the start, which the dynamic balancer must notice by itself.
         std::vector<std::array<double, 2>> points;  // (work, seconds)
         std::size_t previous = 0;
-        for (std::size_t want = std::min<std::size_t>(p.size(), 4096);; want *= 4) {
+        for (std::size_t want = std::min<std::size_t>(total_count, 4096);; want *= 4) {
             double sampled = 0;
-            const Particles sample = sample_of(want, sampled);
-            if (sample.size() == previous) break;  // the whole scene already
-            previous = sample.size();
-            s.store->upload(sample);
+            const Particles taken = sample_of(want, sampled);
+            if (taken.size() == previous) break;  // the whole scene already
+            previous = taken.size();
+            s.store->upload(taken);
             s.cells->run(*s.store);
             double seconds = 0;
             for (int round = 0; round < 2; ++round) {  // the first compiles and warms up
@@ -59,7 +52,7 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Parti
                 seconds = s.force_timer->seconds();
             }
             if (sampled > 0 && seconds > 0) points.push_back({sampled, seconds});
-            if (sample.size() >= p.size() || want >= (std::size_t{1} << 22) || (points.size() >= 2 && seconds >= 0.02)) break;
+            if (taken.size() >= total_count || want >= (std::size_t{1} << 22) || (points.size() >= 2 && seconds >= 0.02)) break;
         }
         if (points.empty()) continue;
         const auto& b = points.back();

@@ -8,11 +8,15 @@
 #include "multi/partition.hpp"
 #include "multi/slab.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace clsph::multi {
 
-void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Particles& particles, const Census& census,
-               balance::Balancer& balancer);
+// The scene's particles in columns [lo, hi) (the samples), and how many the scene has.
+using ColumnSampler = std::function<Particles(std::size_t lo, std::size_t hi)>;
+
+void calibrate(std::vector<Slab>& slabs, const Partition& partition, const ColumnSampler& sample, std::size_t total,
+               const Census& census, balance::Balancer& balancer);
 
 }  // namespace clsph::multi

@@ -89,6 +89,27 @@ Census Partition::census(const Particles& p) {
     return c;
 }
 
+Census Partition::census(const scene::LatticePlan& plan) {
+    const std::size_t n_col = columns();
+    Census c;
+    c.profile.work.assign(n_col, 0.0);
+    c.profile.particles.assign(n_col, 0);
+    c.boundary.assign(n_col, 0);
+    for (const auto& piece : plan.pieces)
+        for (std::size_t i = 0; i < piece.axis[0].size(); ++i) {
+            std::uint32_t col = 0;
+            float off = 0.0f;
+            if (!grid_.locate_axis(0, piece.axis[0].x[i], col, off)) continue;
+            const auto n = static_cast<std::size_t>(piece.plane_count[i]);
+            c.profile.work[col] += static_cast<double>(n) * (piece.fluid ? 1.0 : balance::default_boundary_weight);
+            c.profile.particles[col] += n;
+            if (!piece.fluid) c.boundary[col] += n;
+        }
+    boundary_per_column_ = c.boundary;
+    c.profile.cut_allowed = cut_allowed_;
+    return c;
+}
+
 void Partition::restrict_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
                               double support) {
     const std::size_t n_col = columns();

@@ -8,6 +8,7 @@
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
 #include "multi/slab.hpp"
+#include "scene/lattice_plan.hpp"
 
 #include <array>
 #include <cstdint>
@@ -53,6 +54,8 @@ public:
     const std::vector<char>& cut_allowed() const { return cut_allowed_; }
 
     Census census(const Particles& p);
+    // The same from a plan's per-plane counts, without the particles (no keys).
+    Census census(const scene::LatticePlan& plan);
     // Each slab's particles for the first upload; particles outside the domain go to the first,
     // whose first sort removes and counts them.
     std::vector<Particles> split(const Particles& p, const Census& census, const std::vector<Slab>& slabs) const;

@@ -1,6 +1,7 @@
 #include "multi/slab_driver.hpp"
 
 #include "clsph/error.hpp"
+#include "device/generate.hpp"
 #include "multi/calibration.hpp"
 #include "scene/ghost_nodes.hpp"
 
@@ -11,29 +12,48 @@ namespace clsph::multi {
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
     : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    set_up(devices, scene, &p, nullptr);
+}
+
+SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
+                       const scene::LatticePlan& plan, const DriverOptions& options)
+    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    set_up(devices, scene, nullptr, &plan);
+}
+
+void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* host,
+                        const scene::LatticePlan* plan) {
+    const device::Grid& grid = partition_.grid();
     const std::size_t D = devices.size();
+    const std::size_t total = host ? host->size() : static_cast<std::size_t>(plan->count());
+    auto say = [&](const std::string& line) {
+        if (options_.progress) options_.progress(line);
+    };
     balance::Options bo;
-    bo.mode = options.balance;
+    bo.mode = options_.balance;
     // A device may be left idle when even its narrowest slab would slow every step (a CPU next to a
     // GPU); the balancer does so only on a calibration or enough measured steps (balance/options.hpp).
     bo.allow_idle = true;
     balancer_ = std::make_unique<balance::Balancer>(D, partition_.columns(), bo);
-    Census census = partition_.census(p);
+    Census census = host ? partition_.census(*host) : partition_.census(*plan);
     slabs_.resize(D);
     for (std::size_t d = 0; d < D; ++d) {
         Slab& s = slabs_[d];
         s.device = devices[d];
-        const std::size_t capacity = D == 1 ? p.size() : static_cast<std::size_t>(
-            static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + options.headroom));
-        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options.headroom);
+        const std::size_t capacity = D == 1 ? total : static_cast<std::size_t>(
+            static_cast<double>(total) / static_cast<double>(D) * (1.0 + options_.headroom));
+        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options_.headroom);
         s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
-        s.cells->set_cell_headroom(options.cell_headroom);
-        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options.interaction);
+        s.cells->set_cell_headroom(options_.cell_headroom);
+        s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
     if (slabs_[0].physics->mdbc()) {
         // mDBC: every device holds each boundary particle's ghost-node offset, by id (they are
-        // static: boundary particles never move).
+        // static: boundary particles never move). Boundaries come first in id order, so a plan's
+        // boundary particles alone have the scene's ids.
+        const Particles boundary = host ? Particles() : plan->particles([](const auto&, std::size_t) { return true; }, true);
+        const Particles& p = host ? *host : boundary;
         const auto offsets = scene::ghost_node_offsets(scene, p);
         std::vector<std::array<float, 3>> by_id;
         for (std::size_t i = 0; i < p.size(); ++i) {
@@ -50,24 +70,61 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
             census.profile.cut_allowed = partition_.cut_allowed();
         }
     }
-    if (D > 1 && bo.mode == balance::Mode::dynamic) calibrate(slabs_, partition_, p, census, *balancer_);
+    if (D > 1 && bo.mode == balance::Mode::dynamic) {
+        say("timing each device on samples of the scene");
+        ColumnSampler sample;
+        std::vector<std::vector<std::uint32_t>> by_column;
+        if (host) {
+            const std::uint32_t invalid = grid.params().invalid_key;
+            by_column.resize(partition_.columns());
+            for (std::size_t i = 0; i < host->size(); ++i)
+                if (census.key[i] != invalid) by_column[partition_.column_of(census.key[i])].push_back(static_cast<std::uint32_t>(i));
+            sample = [&](std::size_t lo, std::size_t hi) {
+                Particles out;
+                const Particles& p = *host;
+                for (std::size_t c = lo; c < hi; ++c)
+                    for (std::uint32_t i : by_column[c])
+                        out.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+                return out;
+            };
+        } else {
+            sample = [&](std::size_t lo, std::size_t hi) { return device::slab_particles(*plan, grid, lo, hi); };
+        }
+        calibrate(slabs_, partition_, sample, total, census, *balancer_);
+    }
     std::vector<std::size_t> first{0, partition_.columns()};
     if (D > 1) {
         first = balancer_->initial_cuts(census.profile);
-        if (options.cuts.size() == D + 1 && options.cuts.back() == partition_.columns()) {
-            first = options.cuts;  // a checkpoint's: the balancer goes on from them
+        if (options_.cuts.size() == D + 1 && options_.cuts.back() == partition_.columns()) {
+            first = options_.cuts;  // a checkpoint's: the balancer goes on from them
             balancer_->restore_cuts(first);
         }
     }
     partition_.set_cuts(slabs_, first);
-    const auto parts = partition_.split(p, census, slabs_);
-    for (std::size_t d = 0; d < D; ++d) slabs_[d].store->upload(parts[d]);
+    if (host) {
+        const auto parts = partition_.split(*host, census, slabs_);
+        for (std::size_t d = 0; d < D; ++d) slabs_[d].store->upload(parts[d]);
+    } else {
+        for (std::size_t d = 0; d < D; ++d) {
+            Slab& s = slabs_[d];
+            if (s.empty()) {
+                s.store->ranges = device::ParticleRanges{0, 0, 0};
+                continue;
+            }
+            std::uint64_t n = 0;
+            for (auto c : device::slab_counts(*plan, grid, s.first_col, s.end_col)) n += c;
+            say("generating " + std::to_string(n) + " particles (grid columns [" + std::to_string(s.first_col) + ", " +
+                std::to_string(s.end_col) + ")) on " + s.device->label());
+            device::Generator(*s.device, grid).generate(*plan, *s.store, s.first_col, s.end_col);
+        }
+    }
+    say("sorting the particles into cells");
     exchange_ = std::make_unique<Exchange>(partition_, slabs_, [this](const PerDevice& w) { for_each_device(w); },
-                                           options.wait, phases_, options.seams.wide_exchange);
+                                           options_.wait, phases_, options_.seams.wide_exchange);
     removed_at_upload_ = exchange_->sort_uploaded();
-    if (!options.balance_log.empty()) {
-        log_file_ = std::make_unique<std::ofstream>(options.balance_log);
-        if (!*log_file_) throw Error("--balance-log: cannot write " + options.balance_log);
+    if (!options_.balance_log.empty()) {
+        log_file_ = std::make_unique<std::ofstream>(options_.balance_log);
+        if (!*log_file_) throw Error("--balance-log: cannot write " + options_.balance_log);
         log_ = std::make_unique<balance::BalanceLog>(*log_file_, D);
     }
 }

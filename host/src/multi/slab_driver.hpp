@@ -18,9 +18,11 @@
 #include "multi/partition.hpp"
 #include "multi/phase_timer.hpp"
 #include "multi/slab.hpp"
+#include "scene/lattice_plan.hpp"
 
 #include <array>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,6 +39,8 @@ struct DriverOptions {
     testing::Seams seams;
     // Non-empty (devices + 1 columns): the first cuts (a checkpoint's), instead of the balancer's.
     std::vector<std::size_t> cuts;
+    // A line per stage of a long set-up (generating, calibrating); empty: quiet.
+    std::function<void(const std::string&)> progress;
 };
 
 struct StepOutcome {
@@ -49,6 +53,10 @@ class SlabDriver {
 public:
     SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                const Particles& particles, const DriverOptions& options);
+    // Set-up on the devices: each generates its slab of the plan (device/generate.hpp); the host
+    // holds only the boundary particles when mDBC needs their ghost nodes, and calibration samples.
+    SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
+               const scene::LatticePlan& plan, const DriverOptions& options);
 
     StepOutcome start();  // the first exchange, forces and a zero kick
     StepOutcome step(double dt);
@@ -80,6 +88,8 @@ public:
     const PhaseTotals& phase_seconds() const { return phases_; }
 
 private:
+    void set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* particles,
+                const scene::LatticePlan* plan);
     void for_each_device(const PerDevice& work);
     void apply_seams();
     void drift(double dt);

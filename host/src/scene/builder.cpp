@@ -2,6 +2,7 @@
 #include "clsph/error.hpp"
 #include "clsph/scene.hpp"
 #include "scene/lattice.hpp"
+#include "scene/lattice_plan.hpp"
 #include "scene/mesh.hpp"
 
 #include <algorithm>
@@ -43,7 +44,34 @@ double Scene::sound_speed() const {
 }
 
 Particles Scene::build_particles() const {
-    validate();
+    // Scenes of lattice pieces only: the plan the devices generate from (scene/lattice_plan.hpp),
+    // ordered by the split axis. Scenes with meshes: sampled here, in the scene's order.
+    if (scene::LatticePlan::supports(*this)) return scene::LatticePlan::make(*this).particles();
+    return scene::sampled_particles(*this);
+}
+
+Scene::Count Scene::count_particles() const {
+    Count c;
+    if (scene::LatticePlan::supports(*this)) {
+        const auto plan = scene::LatticePlan::make(*this);
+        c.fluid = plan.fluid_count;
+        c.boundary = plan.boundary_count;
+        return c;
+    }
+    const Particles p = build_particles();
+    for (auto t : p.type) (t == ParticleType::fluid ? c.fluid : c.boundary) += 1;
+    return c;
+}
+
+Particles scene::sampled_particles(const Scene& scene) {
+    const auto& physics = scene.physics;
+    const auto& domain = scene.domain;
+    const auto& fluids = scene.fluids;
+    const auto& walls = scene.walls;
+    const auto& solids = scene.solids;
+    const auto& meshes = scene.meshes;
+    auto sound_speed = [&] { return scene.sound_speed(); };
+    scene.validate();
     const double dp = physics.dp;
     const double c0 = sound_speed(), rho0 = physics.rho0, gamma = physics.gamma;
     const double B = c0 * c0 * rho0 / gamma;

@@ -1,6 +1,7 @@
 // Sampling geometry onto the dp lattice (points at integer multiples of dp on each axis), and the
 // host-side spatial hash used to keep fluid at least dp from every boundary particle.
 #pragma once
+#include "clsph/particles.hpp"
 #include "clsph/scene.hpp"
 
 #include <cmath>
@@ -12,6 +13,11 @@ namespace clsph::scene {
 // Lattice indices k with min <= k * dp <= max (a tolerance of 1e-9 dp keeps faces inclusive).
 std::int64_t lattice_first(double min, double dp);
 std::int64_t lattice_last(double max, double dp);
+
+// The scene's particles sampled point by point on the host (boundaries in the scene's order, then
+// fluid): meshes need it; for other scenes Scene::build_particles() takes the lattice plan, and
+// the tests compare the two.
+Particles sampled_particles(const Scene& scene);
 
 // Boundary particles of box walls: `layers` layers outward from the inner faces, offsets 0, dp, ...
 void sample_walls(const BoxWalls& w, double dp, std::vector<Vec3>& out);

@@ -325,15 +325,17 @@ void Scene::validate() const {
         for (int k = 0; k < 3; ++k) n *= (b.max[k] - b.min[k]) / p.dp + 1.0;
         boundary += n;
     }
-    if (!(fluid < 1.0e9)) {
+    // Ids are 31 bits (kernels/shared.h): at most 2^31 - 1 particles.
+    constexpr double id_limit = 2147483647.0;
+    if (!(fluid < id_limit)) {
         std::ostringstream o;  // a plain whole number, however large (an integer cast would overflow)
-        o << std::fixed << std::setprecision(0) << "gives about " << fluid << " fluid particles; clsph ids allow at most 1e9";
+        o << std::fixed << std::setprecision(0) << "gives about " << fluid << " fluid particles; clsph ids allow at most 2^31 - 1 (2.1e9)";
         throw SceneError("physics.dp: " + o.str());
     }
-    if (!(fluid + boundary < 1.0e9)) {
+    if (!(fluid + boundary < id_limit)) {
         std::ostringstream o;
         o << std::fixed << std::setprecision(0) << "gives about " << boundary
-          << " boundary particles (walls and boxes) beside the fluid; clsph ids allow at most 1e9 in all";
+          << " boundary particles (walls and boxes) beside the fluid; clsph ids allow at most 2^31 - 1 (2.1e9) in all";
         throw SceneError("physics.dp: " + o.str());
     }
     (void)sound_speed();
