@@ -252,6 +252,10 @@ private:
     void submit_frame() {
         if (frames_.pieces())
             frames_.submit_pieces(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles_by_device(); }));
+        else if (args_.output_stride > 1)  // only the frame's particles come to the host
+            frames_.submit(sim_.time(), after_step("downloading a frame", [&] {
+                               return sim_.particles_every(static_cast<std::uint32_t>(args_.output_stride));
+                           }));
         else
             frames_.submit(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles(); }));
         if (surfaces_) after_step("extracting the free surface", [&] {

@@ -241,3 +241,38 @@ TEST_CASE("a run set up on the devices is bitwise the run set up on the host (on
     }
 }
 }
+
+TEST_SUITE("generate") {
+TEST_CASE("thinned downloads: every K-th particle by id, selected on the devices, equal the full download's") {
+    for (std::size_t count : {std::size_t{1}, std::size_t{2}}) {
+        if (count > test::devices().size()) {
+            MESSAGE("skipped on " << count << " devices: " << test::devices().size() << " available");
+            continue;
+        }
+        Options o;
+        o.devices = test::device_spec(count);
+        o.balance = BalanceMode::fixed;
+        Simulation sim(test::small_dam(0.146 / 8), o);
+        for (int k = 0; k < 5; ++k) sim.step();
+        const Particles all = sim.particles();
+        for (std::uint32_t stride : {2u, 3u, 7u, 1000000u}) {
+            INFO(count << " devices, stride " << stride);
+            const Particles thin = sim.particles_every(stride);
+            std::size_t j = 0, differ = 0;
+            for (std::size_t i = 0; i < all.size(); ++i) {
+                if (all.id[i] % stride != 0) continue;
+                if (j >= thin.size()) {
+                    ++differ;
+                    continue;
+                }
+                differ += thin.id[j] != all.id[i] || thin.type[j] != all.type[i] || thin.position[j] != all.position[i] ||
+                          thin.velocity[j] != all.velocity[i] || bits(thin.density[j]) != bits(all.density[i]) ||
+                          bits(thin.pressure[j]) != bits(all.pressure[i]);
+                ++j;
+            }
+            CHECK(j == thin.size());
+            CHECK(differ == 0);
+        }
+    }
+}
+}

@@ -154,6 +154,10 @@ public:
     void run_until(double t, const std::function<void(const StepInfo&)>& on_step = {});
 
     Particles particles();                   // host copy, pressure filled in
+    // The particles whose id is divisible by `stride`, selected on the devices: the others never
+    // reach the host (a strided frame of a billion particles costs its own size). last_good() is
+    // left as it was.
+    Particles particles_every(std::uint32_t stride);
     // The same, one part per device (in device_names() order): the particles each owns now,
     // downloaded by one thread per device. last_good() becomes their concatenation.
     std::vector<Particles> particles_by_device();

@@ -2,6 +2,7 @@
 
 #include "clsph/error.hpp"
 #include "device/generate.hpp"
+#include "device/thin_download.hpp"
 #include "multi/calibration.hpp"
 #include "scene/ghost_nodes.hpp"
 
@@ -278,6 +279,16 @@ Particles SlabDriver::download() {
     Particles all;
     for (auto& s : slabs_) {
         const Particles p = s.store->download();
+        for (std::size_t i = 0; i < p.size(); ++i)
+            all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+    }
+    return all;
+}
+
+Particles SlabDriver::download_every(std::uint32_t stride) {
+    Particles all;
+    for (auto& s : slabs_) {
+        const Particles p = device::ThinDownload(*s.device, partition_.grid()).download(*s.store, stride);
         for (std::size_t i = 0; i < p.size(); ++i)
             all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
     }

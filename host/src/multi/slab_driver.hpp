@@ -61,6 +61,7 @@ public:
     StepOutcome start();  // the first exchange, forces and a zero kick
     StepOutcome step(double dt);
     Particles download();  // owned particles of every device
+    Particles download_every(std::uint32_t stride);  // those whose id is divisible by stride (device/thin_download.hpp)
 
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
