@@ -95,11 +95,15 @@ void add_run_options(CLI::App& run, clsph::app::RunArgs& a) {
     run.add_option("--balance", a.balance, "several devices: cuts follow measured times every step (dynamic), are set once by equal work (static), or are equal widths (off)")
         ->check(CLI::IsMember({"dynamic", "static", "off"}))
         ->capture_default_str();
-    run.add_option("--checkpoint-every", a.checkpoint_every,
+    auto* checkpoint_every = run.add_option("--checkpoint-every", a.checkpoint_every,
                    "write a checkpoint (checkpoint_NNNNN.clsph, docs/checkpoint.md) at the first frame after every DT "
                    "simulated seconds; one is written whenever the run ends")
         ->check(CLI::PositiveNumber)
         ->type_name("DT");
+    auto* no_checkpoint = run.add_flag("--no-checkpoint", a.no_checkpoint,
+                                       "write no checkpoint, not even at the end (a run whose state would not fit its disk: "
+                                       "a checkpoint holds every particle, 52 B each); clsph resume then cannot go on");
+    no_checkpoint->excludes(checkpoint_every);
     run.add_option("--checkpoint-keep", a.checkpoint_keep, "the last K checkpoints are kept (default 3)")
         ->check(CLI::PositiveNumber)
         ->type_name("K");

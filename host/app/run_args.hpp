@@ -34,6 +34,7 @@ struct RunArgs {
     double surface_spacing = 0.0;             // --surface-spacing M; 0: dp / 2
     std::optional<double> checkpoint_every;   // --checkpoint-every DT: checkpoint_NNNNN.clsph at the first frame past each DT
     std::size_t checkpoint_keep = 3;          // --checkpoint-keep K: the last K checkpoints kept
+    bool no_checkpoint = false;               // --no-checkpoint: none at all, not even at the end
     // --on-device-failure: stop (exit 3) or continue (back to the last checkpoint, the remaining devices).
     std::string on_device_failure = "stop";
     bool render = false;                      // --render: an image per surface (implies --surface)

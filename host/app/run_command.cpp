@@ -157,7 +157,7 @@ public:
             if (frames_.last_time() < sim_.time() - eps) submit_frame();
             // Whenever the run ends whole (completed, --steps, --until, Ctrl-C, SIGTERM): a
             // checkpoint to resume from (clsph resume).
-            if (last_checkpoint_step_ != sim_.info().step) write_checkpoint_now();
+            if (last_checkpoint_step_ != sim_.info().step && !args_.no_checkpoint) write_checkpoint_now();
         } catch (const SimulationError& e) {
             progress_.clear();
             totals_.outcome = "failed";
@@ -417,6 +417,9 @@ int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clo
 }
 
 int run_command(const RunArgs& args) {
+    if (args.no_checkpoint && args.on_device_failure == "continue")
+        throw Error("--no-checkpoint with --on-device-failure continue: going on after a device failure starts from a "
+                    "checkpoint; drop one of them");
     const auto start = clock::now();
     const Scene scene = load_scene(args.scene_path, args.overrides);
     const RunPlan plan = make_plan(args, scene);

@@ -188,3 +188,28 @@ TEST_CASE("three devices, a device failing mid-run: continue finishes on two, st
         CHECK(clsph::read_vtu(out + "/last_good.vtu").size() == 6305);
     }
 }
+
+TEST_CASE("--no-checkpoint: a run leaves no checkpoint, and refuses the options that need one") {
+    const std::string out = work_dir("no_checkpoint");
+    std::string log;
+    int code = run(args({{"run", scene}, tiny, {"--devices", "0", "--steps", "5", "--out", out, "--no-checkpoint"}}), log);
+    INFO(log);
+    REQUIRE(code == 0);
+    std::size_t checkpoints = 0, frames = 0;
+    for (const auto& e : fs::directory_iterator(out)) {
+        checkpoints += e.path().extension() == ".clsph";
+        frames += e.path().extension() == ".vtu";
+    }
+    CHECK(checkpoints == 0);
+    CHECK(frames >= 1);
+    code = run(args({{"run", scene}, tiny, {"--devices", "0", "--steps", "5", "--out", out, "--force", "--no-checkpoint",
+                                            "--checkpoint-every", "0.005"}}),
+               log);
+    CHECK(code != 0);
+    CHECK(log.find("--no-checkpoint") != std::string::npos);
+    code = run(args({{"run", scene}, tiny, {"--devices", "0", "--steps", "5", "--out", out, "--force", "--no-checkpoint",
+                                            "--on-device-failure", "continue"}}),
+               log);
+    CHECK(code != 0);
+    CHECK(log.find("--no-checkpoint with --on-device-failure continue") != std::string::npos);
+}
