@@ -26,6 +26,15 @@ bool ParticleStore::reserve(std::size_t n) {
     if (n <= capacity_) return false;
     const std::size_t cap = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom_)) + 1;
     const std::size_t keep = ranges.active();
+    if (keep == 0) {
+        // Nothing to keep (the first upload, the generation on the device): the old arrays go
+        // before the new ones are made, so the peak is the new arrays alone, not old + new.
+        keys = cl_rt::Buffer();
+        vals = cl_rt::Buffer();
+        scratch = cl_rt::Buffer();
+        allocate(cap);  // ParticleArrays::allocate frees its arrays first
+        return true;
+    }
     // Grow one array at a time through the device, so the peak is old + one new array.
     ParticleArrays::grow(device_, cap, keep, "particles");
     // Keys and values too: a sort of the active particles may already be in them (several devices).
