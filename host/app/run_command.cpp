@@ -251,7 +251,9 @@ private:
     // with the run.json a second signal would leave brought up to date.
     void submit_frame() {
         if (frames_.pieces())
-            frames_.submit_pieces(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles_by_device(); }));
+            frames_.submit_pieces(sim_.time(), after_step("downloading a frame", [&] {
+                                      return sim_.particles_by_device(static_cast<std::uint32_t>(args_.output_stride));
+                                  }));
         else if (args_.output_stride > 1)  // only the frame's particles come to the host
             frames_.submit(sim_.time(), after_step("downloading a frame", [&] {
                                return sim_.particles_every(static_cast<std::uint32_t>(args_.output_stride));

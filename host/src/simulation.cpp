@@ -330,12 +330,14 @@ Particles Simulation::particles() {
     return p;
 }
 
-std::vector<Particles> Simulation::particles_by_device() {
+std::vector<Particles> Simulation::particles_by_device(std::uint32_t stride) {
     auto& m = *impl_;
     auto& slabs = m.driver->slabs();
     std::vector<Particles> pieces(slabs.size());
     auto download = [&](std::size_t k) {
-        pieces[k] = cl_rt::guarded("downloading the particles", slabs[k].device->label(), [&] { return slabs[k].store->download(); });
+        pieces[k] = cl_rt::guarded("downloading the particles", slabs[k].device->label(), [&] {
+            return stride > 1 ? m.driver->download_every(k, stride) : slabs[k].store->download();
+        });
         fill_pressure(pieces[k], m.driver->params());
     };
     if (slabs.size() == 1) {
@@ -356,6 +358,7 @@ std::vector<Particles> Simulation::particles_by_device() {
         for (const auto& e : errors)
             if (e) std::rethrow_exception(e);
     }
+    if (stride > 1) return pieces;  // a thinned state is no state to go back to
     Particles all;
     for (const auto& p : pieces)
         for (std::size_t i = 0; i < p.size(); ++i)
@@ -366,13 +369,12 @@ std::vector<Particles> Simulation::particles_by_device() {
 }
 
 Particles Simulation::particles_every(std::uint32_t stride) {
-    auto& m = *impl_;
     if (stride <= 1) return particles();
-    Particles p = cl_rt::guarded("downloading the particles", "", [&] { return m.driver->download_every(stride); });
-    const auto& sp = m.driver->params();
-    for (std::size_t i = 0; i < p.size(); ++i)
-        p.pressure[i] = static_cast<float>(sp.eos_b * (std::pow(p.density[i] / sp.rho0, 7.0) - 1.0));
-    return p;
+    Particles all;
+    for (const auto& p : particles_by_device(stride))
+        for (std::size_t i = 0; i < p.size(); ++i)
+            all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+    return all;
 }
 
 bool Simulation::steps_ahead() const { return impl_->ahead; }

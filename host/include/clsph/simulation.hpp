@@ -160,7 +160,9 @@ public:
     Particles particles_every(std::uint32_t stride);
     // The same, one part per device (in device_names() order): the particles each owns now,
     // downloaded by one thread per device. last_good() becomes their concatenation.
-    std::vector<Particles> particles_by_device();
+    // With a stride > 1, each part only the particles whose id is divisible by it (selected on the
+    // devices, as particles_every()); last_good() is then left as it was.
+    std::vector<Particles> particles_by_device(std::uint32_t stride = 1);
     const Particles& last_good() const;
     const StepInfo& info() const;
     double time() const;

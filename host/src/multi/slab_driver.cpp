@@ -285,14 +285,8 @@ Particles SlabDriver::download() {
     return all;
 }
 
-Particles SlabDriver::download_every(std::uint32_t stride) {
-    Particles all;
-    for (auto& s : slabs_) {
-        const Particles p = device::ThinDownload(*s.device, partition_.grid()).download(*s.store, stride);
-        for (std::size_t i = 0; i < p.size(); ++i)
-            all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
-    }
-    return all;
+Particles SlabDriver::download_every(std::size_t d, std::uint32_t stride) {
+    return device::ThinDownload(*slabs_[d].device, partition_.grid()).download(*slabs_[d].store, stride);
 }
 
 std::vector<std::array<float, 2>> SlabDriver::probe(const std::vector<std::array<double, 3>>& points) {

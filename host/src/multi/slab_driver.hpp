@@ -61,7 +61,8 @@ public:
     StepOutcome start();  // the first exchange, forces and a zero kick
     StepOutcome step(double dt);
     Particles download();  // owned particles of every device
-    Particles download_every(std::uint32_t stride);  // those whose id is divisible by stride (device/thin_download.hpp)
+    // Slab d's owned particles whose id is divisible by stride (device/thin_download.hpp).
+    Particles download_every(std::size_t d, std::uint32_t stride);
 
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.

@@ -125,8 +125,15 @@ LatticePlan LatticePlan::make(const Scene& scene) {
     const std::size_t nb = plan.blocks;
     auto density_of = [&](double p) { return static_cast<float>(rho0 * std::pow(1.0 + p / B, 1.0 / gamma)); };
 
-    auto finish_axes = [&](LatticePiece& piece) {
-        for (auto& ax : piece.axis) {
+    // A piece of each wall, box and block: its axes by loop position, then its fixed-point coordinates.
+    auto add_piece = [&](bool fluid, std::size_t source, const auto& axis_of) {
+        LatticePiece piece;
+        piece.fluid = fluid;
+        piece.source = source;
+        for (int p = 0; p < 3; ++p) {
+            auto& ax = piece.axis[p];
+            ax.axis = order[p];
+            axis_of(order[p], ax);
             ax.q.resize(ax.size());
             for (std::size_t i = 0; i < ax.size(); ++i) {
                 const double q = ax.x[i] / dp * std::ldexp(1.0, kFixedBits);
@@ -136,30 +143,15 @@ LatticePlan LatticePlan::make(const Scene& scene) {
             }
             if (ax.layer.size() != ax.size()) ax.layer.assign(ax.size(), 0);
         }
+        plan.pieces.push_back(std::move(piece));
     };
-    for (std::size_t w = 0; w < scene.walls.size(); ++w) {
-        LatticePiece piece;
-        piece.source = w;
-        for (int p = 0; p < 3; ++p) piece.axis[p].axis = order[p], walls_axis(scene.walls[w], dp, order[p], piece.axis[p]);
-        finish_axes(piece);
-        plan.pieces.push_back(std::move(piece));
-    }
-    for (std::size_t s = 0; s < scene.solids.size(); ++s) {
-        LatticePiece piece;
-        piece.source = s;
-        for (int p = 0; p < 3; ++p) piece.axis[p].axis = order[p], solid_axis(scene.solids[s], dp, order[p], piece.axis[p]);
-        finish_axes(piece);
-        plan.pieces.push_back(std::move(piece));
-    }
+    for (std::size_t w = 0; w < scene.walls.size(); ++w)
+        add_piece(false, w, [&](int a, LatticeAxis& ax) { walls_axis(scene.walls[w], dp, a, ax); });
+    for (std::size_t b = 0; b < scene.solids.size(); ++b)
+        add_piece(false, b, [&](int a, LatticeAxis& ax) { solid_axis(scene.solids[b], dp, a, ax); });
     const std::size_t n_boundary = plan.pieces.size();
-    for (std::size_t f = 0; f < scene.fluids.size(); ++f) {
-        LatticePiece piece;
-        piece.fluid = true;
-        piece.source = f;
-        for (int p = 0; p < 3; ++p) piece.axis[p].axis = order[p], fluid_axis(scene.fluids[f], dp, order[p], piece.axis[p]);
-        finish_axes(piece);
-        plan.pieces.push_back(std::move(piece));
-    }
+    for (std::size_t f = 0; f < scene.fluids.size(); ++f)
+        add_piece(true, f, [&](int a, LatticeAxis& ax) { fluid_axis(scene.fluids[f], dp, a, ax); });
 
     // Boundary pieces: points per plane, and the block whose pressure each point takes.
     std::vector<std::size_t> rank(nb);
