@@ -249,15 +249,23 @@ private:
 
     // A frame: downloaded, queued for the writer thread, and the CSV rows up to it pushed to disk,
     // with the run.json a second signal would leave brought up to date.
+    // --output-stride, --output-box: what the devices select for a frame.
+    Simulation::Selection selection() const {
+        Simulation::Selection s;
+        s.stride = static_cast<std::uint32_t>(std::min<std::size_t>(args_.output_stride, 0xffffffffu));
+        if (args_.output_box.size() == 6)
+            s.box = std::array<double, 6>{args_.output_box[0], args_.output_box[1], args_.output_box[2],
+                                          args_.output_box[3], args_.output_box[4], args_.output_box[5]};
+        return s;
+    }
+
     void submit_frame() {
         if (frames_.pieces())
             frames_.submit_pieces(sim_.time(), after_step("downloading a frame", [&] {
-                                      return sim_.particles_by_device(static_cast<std::uint32_t>(args_.output_stride));
+                                      return sim_.particles_by_device(selection());
                                   }));
-        else if (args_.output_stride > 1)  // only the frame's particles come to the host
-            frames_.submit(sim_.time(), after_step("downloading a frame", [&] {
-                               return sim_.particles_every(static_cast<std::uint32_t>(args_.output_stride));
-                           }));
+        else if (!selection().all())  // only the frame's particles come to the host
+            frames_.submit(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles(selection()); }));
         else
             frames_.submit(sim_.time(), after_step("downloading a frame", [&] { return sim_.particles(); }));
         if (surfaces_) after_step("extracting the free surface", [&] {

@@ -330,13 +330,13 @@ Particles Simulation::particles() {
     return p;
 }
 
-std::vector<Particles> Simulation::particles_by_device(std::uint32_t stride) {
+std::vector<Particles> Simulation::particles_by_device(const Selection& which) {
     auto& m = *impl_;
     auto& slabs = m.driver->slabs();
     std::vector<Particles> pieces(slabs.size());
     auto download = [&](std::size_t k) {
         pieces[k] = cl_rt::guarded("downloading the particles", slabs[k].device->label(), [&] {
-            return stride > 1 ? m.driver->download_every(k, stride) : slabs[k].store->download();
+            return which.all() ? slabs[k].store->download() : m.driver->download_every(k, which.stride, which.box);
         });
         fill_pressure(pieces[k], m.driver->params());
     };
@@ -358,7 +358,7 @@ std::vector<Particles> Simulation::particles_by_device(std::uint32_t stride) {
         for (const auto& e : errors)
             if (e) std::rethrow_exception(e);
     }
-    if (stride > 1) return pieces;  // a thinned state is no state to go back to
+    if (!which.all()) return pieces;  // a thinned state is no state to go back to
     Particles all;
     for (const auto& p : pieces)
         for (std::size_t i = 0; i < p.size(); ++i)
@@ -368,10 +368,10 @@ std::vector<Particles> Simulation::particles_by_device(std::uint32_t stride) {
     return pieces;
 }
 
-Particles Simulation::particles_every(std::uint32_t stride) {
-    if (stride <= 1) return particles();
+Particles Simulation::particles(const Selection& which) {
+    if (which.all()) return particles();
     Particles all;
-    for (const auto& p : particles_by_device(stride))
+    for (const auto& p : particles_by_device(which))
         for (std::size_t i = 0; i < p.size(); ++i)
             all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
     return all;

@@ -20,6 +20,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <random>
 #include <tuple>
 
@@ -135,6 +136,7 @@ TEST_CASE("the memory model's census from the plan: the particles' own per colum
         INFO("round " << round);
         CHECK(a.particles == b.particles);
         CHECK(a.per_column == b.per_column);
+        CHECK(a.boundary_per_column == b.boundary_per_column);
         CHECK(a.max_boundary_id == b.max_boundary_id);
         std::size_t ca = 0, cb = 0, below = 0;
         for (std::size_t c = 0; c < a.cells_per_column.size(); ++c) {
@@ -243,7 +245,7 @@ TEST_CASE("a run set up on the devices is bitwise the run set up on the host (on
 }
 
 TEST_SUITE("generate") {
-TEST_CASE("thinned downloads: every K-th particle by id, selected on the devices, equal the full download's") {
+TEST_CASE("thinned downloads: every K-th particle by id and boxes, selected on the devices, equal the full download's") {
     for (std::size_t count : {std::size_t{1}, std::size_t{2}}) {
         if (count > test::devices().size()) {
             MESSAGE("skipped on " << count << " devices: " << test::devices().size() << " available");
@@ -255,12 +257,24 @@ TEST_CASE("thinned downloads: every K-th particle by id, selected on the devices
         Simulation sim(test::small_dam(0.146 / 8), o);
         for (int k = 0; k < 5; ++k) sim.step();
         const Particles all = sim.particles();
-        for (std::uint32_t stride : {2u, 3u, 7u, 1000000u}) {
-            INFO(count << " devices, stride " << stride);
-            const Particles thin = sim.particles_every(stride);
+        // Boxes: the left of the column, one across the tank's middle (no particle at first), one
+        // outside the domain; with and without a stride.
+        const std::vector<std::optional<std::array<double, 6>>> boxes = {
+            std::nullopt, std::array<double, 6>{-1, -1, -1, 0.07, 1, 0.1}, std::array<double, 6>{0.2, -1, -1, 0.25, 1, 1},
+            std::array<double, 6>{5, 5, 5, 6, 6, 6}};
+        for (const auto& box : boxes)
+        for (std::uint32_t stride : {1u, 2u, 3u, 7u, 1000000u}) {
+            if (stride == 1 && !box) continue;
+            INFO(count << " devices, stride " << stride << (box ? ", a box" : ""));
+            const Particles thin = sim.particles(Simulation::Selection{stride, box});
+            auto inside = [&](const Vec3& x) {
+                if (!box) return true;
+                const auto& b = *box;
+                return x[0] >= b[0] && x[1] >= b[1] && x[2] >= b[2] && x[0] <= b[3] && x[1] <= b[4] && x[2] <= b[5];
+            };
             std::size_t j = 0, differ = 0;
             for (std::size_t i = 0; i < all.size(); ++i) {
-                if (all.id[i] % stride != 0) continue;
+                if (all.id[i] % stride != 0 || !inside(all.position[i])) continue;
                 if (j >= thin.size()) {
                     ++differ;
                     continue;

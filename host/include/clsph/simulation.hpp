@@ -7,9 +7,11 @@
 #include "clsph/scene.hpp"
 
 #include <cstdint>
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -127,6 +129,13 @@ struct MemoryReport {
     double bytes_per_particle() const { return particles ? double(peak_bytes) / double(particles) : 0.0; }
 };
 
+// Which particles a thinned download keeps (Simulation::particles(const Selection&)).
+struct ParticleSelection {
+    std::uint32_t stride = 1;                    // ids divisible by it
+    std::optional<std::array<double, 6>> box;    // xmin ymin zmin xmax ymax zmax, faces included
+    bool all() const { return stride <= 1 && !box; }
+};
+
 class Simulation {
 public:
     Simulation(const Scene& scene, const Options& options = {});
@@ -154,15 +163,15 @@ public:
     void run_until(double t, const std::function<void(const StepInfo&)>& on_step = {});
 
     Particles particles();                   // host copy, pressure filled in
-    // The particles whose id is divisible by `stride`, selected on the devices: the others never
-    // reach the host (a strided frame of a billion particles costs its own size). last_good() is
-    // left as it was.
-    Particles particles_every(std::uint32_t stride);
+    // The particles whose id is divisible by `stride` and (with a box: xmin ymin zmin xmax ymax
+    // zmax, faces included) inside it, selected on the devices: the others never reach the host
+    // (a strided frame of a billion particles costs its own size). last_good() is left as it was.
+    using Selection = ParticleSelection;
+    Particles particles(const Selection& which);
     // The same, one part per device (in device_names() order): the particles each owns now,
-    // downloaded by one thread per device. last_good() becomes their concatenation.
-    // With a stride > 1, each part only the particles whose id is divisible by it (selected on the
-    // devices, as particles_every()); last_good() is then left as it was.
-    std::vector<Particles> particles_by_device(std::uint32_t stride = 1);
+    // downloaded by one thread per device. Without a selection, last_good() becomes their
+    // concatenation.
+    std::vector<Particles> particles_by_device(const Selection& which = {});
     const Particles& last_good() const;
     const StepInfo& info() const;
     double time() const;

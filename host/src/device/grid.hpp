@@ -31,6 +31,7 @@ public:
 
     const GridParams& params() const { return p_; }
     const Box& domain() const { return domain_; }
+    const std::array<bool, 3>& periodic() const { return periodic_; }
     // Axis (0 = x, 1 = y, 2 = z) of key position 0 = s, 1 = a, 2 = b.
     int axis(int key_position) const { return axis_[key_position]; }
     std::array<int, 3> axes() const { return axis_; }

@@ -285,8 +285,8 @@ Particles SlabDriver::download() {
     return all;
 }
 
-Particles SlabDriver::download_every(std::size_t d, std::uint32_t stride) {
-    return device::ThinDownload(*slabs_[d].device, partition_.grid()).download(*slabs_[d].store, stride);
+Particles SlabDriver::download_every(std::size_t d, std::uint32_t stride, const std::optional<std::array<double, 6>>& box) {
+    return device::ThinDownload(*slabs_[d].device, partition_.grid()).download(*slabs_[d].store, stride, box);
 }
 
 std::vector<std::array<float, 2>> SlabDriver::probe(const std::vector<std::array<double, 3>>& points) {

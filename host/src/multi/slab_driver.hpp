@@ -24,6 +24,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,8 @@ public:
     StepOutcome start();  // the first exchange, forces and a zero kick
     StepOutcome step(double dt);
     Particles download();  // owned particles of every device
-    // Slab d's owned particles whose id is divisible by stride (device/thin_download.hpp).
-    Particles download_every(std::size_t d, std::uint32_t stride);
+    // Slab d's owned particles whose id is divisible by stride, in the box if any (device/thin_download.hpp).
+    Particles download_every(std::size_t d, std::uint32_t stride, const std::optional<std::array<double, 6>>& box);
 
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
