@@ -95,19 +95,7 @@ Simulation::Simulation(const Scene& scene, const Particles& p, const Options& op
 namespace {
 // A checkpoint's particles as the host holds them (the census and the split read positions).
 Particles particles_of(const Checkpoint& c, const device::Grid& grid) {
-    Particles p;
-    p.resize(c.size());
-    for (std::size_t i = 0; i < c.size(); ++i) {
-        std::uint32_t key;
-        std::memcpy(&key, &c.pos[4 * i + 3], sizeof key);
-        p.position[i] = grid.position(key, {c.pos[4 * i], c.pos[4 * i + 1], c.pos[4 * i + 2]});
-        p.velocity[i] = {c.velrho[4 * i], c.velrho[4 * i + 1], c.velrho[4 * i + 2]};
-        p.density[i] = c.velrho[4 * i + 3];
-        p.pressure[i] = 0.0f;
-        p.id[i] = c.id[i] & CLSPH_ID_MASK;
-        p.type[i] = static_cast<ParticleType>(c.id[i] >> CLSPH_TYPE_SHIFT);
-    }
-    return p;
+    return device::decode_particles(grid, c.pos.data(), c.velrho.data(), c.id.data(), c.size());
 }
 }  // namespace
 

@@ -81,17 +81,21 @@ Particles ParticleStore::download() {
     device_.read(pos, hp.data(), 4 * n, 4 * first);
     device_.read(velrho, hv.data(), 4 * n, 4 * first);
     device_.read(id, hid.data(), n, first);
+    return decode_particles(grid_, hp.data(), hv.data(), hid.data(), n);
+}
+
+Particles decode_particles(const Grid& grid, const float* pos, const float* velrho, const std::uint32_t* ids, std::size_t n) {
     Particles p;
     p.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         std::uint32_t key;
-        std::memcpy(&key, &hp[4 * i + 3], sizeof key);
-        p.position[i] = grid_.position(key, {hp[4 * i], hp[4 * i + 1], hp[4 * i + 2]});
-        p.velocity[i] = {hv[4 * i], hv[4 * i + 1], hv[4 * i + 2]};
-        p.density[i] = hv[4 * i + 3];
+        std::memcpy(&key, &pos[4 * i + 3], sizeof key);
+        p.position[i] = grid.position(key, {pos[4 * i], pos[4 * i + 1], pos[4 * i + 2]});
+        p.velocity[i] = {velrho[4 * i], velrho[4 * i + 1], velrho[4 * i + 2]};
+        p.density[i] = velrho[4 * i + 3];
         p.pressure[i] = 0.0f;
-        p.id[i] = hid[i] & CLSPH_ID_MASK;
-        p.type[i] = static_cast<ParticleType>(hid[i] >> CLSPH_TYPE_SHIFT);
+        p.id[i] = ids[i] & CLSPH_ID_MASK;
+        p.type[i] = static_cast<ParticleType>(ids[i] >> CLSPH_TYPE_SHIFT);
     }
     return p;
 }

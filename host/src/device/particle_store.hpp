@@ -52,4 +52,8 @@ private:
     std::size_t capacity_ = 0;
 };
 
+// Host particles from the device's words, n of each: pos (offset from the cell centre xyz, key
+// bits w), velrho, id words; pressure left at 0.
+Particles decode_particles(const Grid& grid, const float* pos, const float* velrho, const std::uint32_t* ids, std::size_t n);
+
 }  // namespace clsph::device

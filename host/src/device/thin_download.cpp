@@ -60,17 +60,7 @@ Particles ThinDownload::download(ParticleStore& store, std::uint32_t stride, con
     d.read(out_pos, hp.data(), hp.size());
     d.read(out_vr, hv.data(), hv.size());
     d.read(out_id, hid.data(), hid.size());
-    p.resize(m);
-    for (std::size_t i = 0; i < m; ++i) {
-        std::uint32_t key;
-        std::memcpy(&key, &hp[4 * i + 3], sizeof key);
-        p.position[i] = grid_.position(key, {hp[4 * i], hp[4 * i + 1], hp[4 * i + 2]});
-        p.velocity[i] = {hv[4 * i], hv[4 * i + 1], hv[4 * i + 2]};
-        p.density[i] = hv[4 * i + 3];
-        p.pressure[i] = 0.0f;
-        p.id[i] = hid[i] & CLSPH_ID_MASK;
-        p.type[i] = static_cast<ParticleType>(hid[i] >> CLSPH_TYPE_SHIFT);
-    }
+    p = decode_particles(grid_, hp.data(), hv.data(), hid.data(), m);
     if (box) {  // the cells' particles to the box's
         const auto& b = *box;
         Particles in;
