@@ -14,6 +14,7 @@ namespace clsph::detail {
 struct MemoryCensus {
     std::size_t particles = 0;
     std::vector<std::size_t> per_column;        // particles per grid column (split axis), in the domain
+    std::vector<std::size_t> boundary_per_column;  // of which boundary particles (the balancer's work weights)
     std::vector<std::size_t> cells_per_column;  // non-empty cells per column
     std::uint32_t max_boundary_id = 0;
     bool any_boundary = false;

@@ -4,6 +4,7 @@
 #include "clsph/memory_plan.hpp"
 #include "device/memory_census.hpp"
 
+#include "balance/balancer.hpp"
 #include "clsph/error.hpp"
 #include "device/grid.hpp"
 #include "probes/gauges.hpp"
@@ -12,7 +13,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
 #include <map>
+#include <utility>
 
 namespace clsph {
 namespace {
@@ -89,7 +92,29 @@ struct SortTemporaries {
 // What one device holds, in particles, at the start (several devices: an estimate of the split).
 struct Share {
     std::size_t owned = 0, active = 0, capacity = 0, cells = 0;
-    std::size_t window = 0, outbox = 0, inbox = 0, edge = 0, columns = 0;
+    std::size_t window = 0, outbox = 0, inbox = 0, columns = 0;
+    std::size_t edge = 0;  // the most particles an edge sort sorts (0: the merges sort everything)
+    // Growths of the store that keep its particles (the exchanges'): capacity before and after, and
+    // the edge sort's particles then.
+    struct Growth {
+        std::size_t from, to, edge;
+        std::size_t sorted;  // the particles the cell sort has sorted by then (its temporaries' size)
+        bool tables, inbox;  // whether the cell tables and the exchange inbox exist by then
+    };
+    std::vector<Growth> kept_growths;
+};
+
+// The store's arrays in the order particle_store.cpp reserve() grows them when it keeps particles
+// (ParticleArrays::grow, then keys and values; the scratch is freed, then made): bytes per particle,
+// and 1 for the arrays of capacity + 1.
+struct StoreArray {
+    const char* name;
+    std::size_t elem, extra;
+};
+constexpr StoreArray store_arrays[] = {
+    {"particles: positions", f4, 0},      {"particles: velocity+density", f4, 0},
+    {"particles: acceleration+drho/dt", f4, 0}, {"particles: ids", u32, 0},
+    {"sort keys", u32, 1},                {"sort values / cell index", u32, 1},
 };
 
 }  // namespace
@@ -165,12 +190,17 @@ MemoryCensus census_of(const Scene& scene, const Particles& p) {
     MemoryCensus c;
     c.particles = p.size();
     c.per_column.assign(grid.params().n_s, 0);
+    c.boundary_per_column.assign(grid.params().n_s, 0);
     c.cells_per_column.assign(grid.params().n_s, 0);
     std::vector<std::uint32_t> key(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
         std::array<float, 3> off{};
         key[i] = grid.locate(p.position[i], off);
-        if (key[i] != invalid) ++c.per_column[grid.cell_of_key(key[i])[0]];
+        if (key[i] != invalid) {
+            const std::size_t col = grid.cell_of_key(key[i])[0];
+            ++c.per_column[col];
+            c.boundary_per_column[col] += p.type[i] != ParticleType::fluid;  // partition.cpp census()
+        }
         if (p.type[i] == ParticleType::boundary) {
             c.any_boundary = true;
             c.max_boundary_id = std::max<std::uint32_t>(c.max_boundary_id, p.id[i]);
@@ -192,6 +222,7 @@ MemoryCensus census_of(const Scene& scene, const scene::LatticePlan& plan) {
     MemoryCensus c;
     c.particles = static_cast<std::size_t>(plan.count());
     c.per_column.assign(columns, 0);
+    c.boundary_per_column.assign(columns, 0);
     c.cells_per_column.assign(columns, 0);
     c.any_boundary = plan.boundary_count > 0;
     c.max_boundary_id = plan.boundary_count > 0 ? static_cast<std::uint32_t>(plan.boundary_count - 1) : 0;
@@ -224,6 +255,7 @@ MemoryCensus census_of(const Scene& scene, const scene::LatticePlan& plan) {
             float off = 0.0f;
             if (!grid.locate_axis(0, piece.axis[0].x[i], col, off)) continue;
             c.per_column[col] += static_cast<std::size_t>(piece.plane_count[i]);
+            if (!piece.fluid) c.boundary_per_column[col] += static_cast<std::size_t>(piece.plane_count[i]);
             planes[k].push_back({i, col});
         }
     }
@@ -296,22 +328,30 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
         return n;
     };
 
-    // The split: one device holds every particle; several, contiguous columns of about equal
-    // particle counts (the balancer's first cuts weigh work, which follows the particles).
+    // The split (multi/slab_driver.cpp set_up): one device holds every particle; several, the
+    // balancer's first cuts over the census profile (multi/partition.cpp census(): work 1 per fluid
+    // particle, balance::default_boundary_weight per boundary one), as the engine places them for
+    // --balance static and off, and for dynamic when no calibration has timed the devices.
     std::vector<Share> shares(D);
-    std::vector<std::size_t> cuts{0};
-    if (D == 1) {
-        cuts.push_back(columns);
-    } else {
-        std::size_t valid = 0;
-        for (auto n : per_column) valid += n;
-        std::size_t acc = 0, c = 0;
-        for (std::size_t d = 1; d < D; ++d) {
-            const double target = static_cast<double>(valid) * static_cast<double>(d) / static_cast<double>(D);
-            while (c < columns && static_cast<double>(acc + per_column[c]) <= target) acc += per_column[c++];
-            cuts.push_back(std::max(c, cuts.back()));
+    std::vector<std::size_t> cuts{0, columns};
+    std::size_t inside = 0;
+    for (auto n : per_column) inside += n;
+    if (D > 1) {
+        balance::Options bo;
+        bo.mode = options.balance == BalanceMode::dynamic ? balance::Mode::dynamic
+                  : options.balance == BalanceMode::fixed ? balance::Mode::static_
+                                                          : balance::Mode::off;
+        bo.allow_idle = true;
+        balance::ColumnProfile profile;
+        profile.work.assign(columns, 0.0);
+        profile.particles.assign(columns, 0);
+        for (std::size_t c = 0; c < columns && c < per_column.size(); ++c) {
+            const std::size_t boundary = c < census.boundary_per_column.size() ? census.boundary_per_column[c] : 0;
+            profile.particles[c] = per_column[c];
+            profile.work[c] = static_cast<double>(per_column[c] - boundary) +
+                              static_cast<double>(boundary) * balance::default_boundary_weight;
         }
-        cuts.push_back(columns);
+        cuts = balance::Balancer(D, columns, bo).initial_cuts(profile);
     }
     const double headroom = options.capacity_headroom;
     for (std::size_t d = 0; d < D; ++d) {
@@ -319,7 +359,8 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
         const std::size_t first = cuts[d], end = cuts[d + 1];
         s.columns = end - first;
         // slab_driver.cpp: capacity p.size() on one device, p.size() / D (1 + headroom) on several;
-        // particle_store.cpp reserve(): a store too small grows to n (1 + headroom) + 1.
+        // particle_store.cpp reserve(): a store too small grows to n (1 + headroom) + 1 (at the
+        // upload or the generation nothing is kept: the old arrays go first, one allocation).
         s.capacity = D == 1 ? p.size() : static_cast<std::size_t>(static_cast<double>(p.size()) / static_cast<double>(D) * (1.0 + headroom));
         s.capacity = std::max<std::size_t>(s.capacity, 1);
         if (D == 1) {
@@ -329,18 +370,29 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
             s.outbox = s.inbox = 1024;  // exchange.cpp: the boxes exist on one device too, at their least
             continue;
         }
-        s.owned = in_columns(first, end);
+        // partition.cpp split(): particles outside the domain go to device 0 with the host's upload.
+        s.owned = in_columns(first, end) + (d == 0 && p.size() > inside ? p.size() - inside : 0);
+        Share::Growth at{};  // where a growth keeping the particles happens
+        auto grow = [&](std::size_t n, bool keep) {
+            if (n <= s.capacity) return;
+            const std::size_t cap = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom)) + 1;
+            if (keep) {
+                at.from = s.capacity, at.to = cap, at.edge = s.edge;
+                s.kept_growths.push_back(at);
+            }
+            s.capacity = cap;
+        };
+        grow(s.owned, false);  // the upload or the generation: nothing kept
+        if (s.columns == 0) {  // an idle device (the balancer's idle_empty_slabs): no ghosts, no edges
+            s.outbox = s.inbox = 1024;
+            continue;
+        }
         // Ghosts: one column either side (partition.cpp needs()).
         const std::size_t g0 = first > 0 ? first - 1 : 0, g1 = std::min(end + 1, columns);
         s.active = in_columns(g0, g1);
         s.cells = cells_in(g0, g1);
-        auto grow = [&](std::size_t n) {
-            if (n > s.capacity) s.capacity = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom)) + 1;
-        };
-        grow(s.owned);
-        grow(s.active);
         // exchange.cpp: windows of two columns at each edge with a neighbour go out; the neighbours'
-        // edge columns come in.
+        // edge columns come in (the ghosts).
         std::size_t total = 0, arrivals = 0;
         if (d > 0) {
             s.window = std::max(s.window, in_columns(first, std::min(first + 2, end)));
@@ -354,9 +406,29 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
         }
         s.outbox = total + total / 4 + 1024;
         s.inbox = arrivals + arrivals / 4 + 1024;
-        // The merge sorts only the edges (cell_pipeline.cpp enqueue_edge_sort) on slabs of 4 or more
-        // columns, from the second exchange on: not planned here (its keys, values and sort
-        // temporaries, about 24 B per edge particle, come later in the run).
+        // Each exchange (exchange.cpp plan(), send(), receive_and_merge()) holds what the store had
+        // and the arrivals, keeping the sorted particles: the first (SlabDriver::start) the owned
+        // particles, the next ones the ghosts too, dropped at the merge. On slabs of 4 columns or
+        // more it sorts only the edges (the arrivals, the dropped and the kept particles of the
+        // first and last two columns) where the reorder scratch holds them, deciding so on the
+        // capacity before the store grows.
+        const std::size_t owned = in_columns(first, end);
+        const std::size_t xy = s.columns >= 4 ? in_columns(first, first + 2) + in_columns(end - 2, end) : 0;
+        // The first exchange grows the store before the cell tables are made (and on the edge path,
+        // in send(), before the inbox is); the sort before it (exchange.cpp sort_uploaded()) sorted
+        // the owned particles.
+        auto exchange = [&](std::size_t held, std::size_t dropped, bool first_one) {
+            const std::size_t kept = held - dropped, m = arrivals + dropped + xy;
+            const bool edges = s.columns >= 4 && arrivals > 0 && kept > 0 && xy < kept &&
+                               m * particle_bytes <= s.capacity * f4;
+            at.sorted = first_one ? owned : s.active;
+            at.tables = !first_one;
+            at.inbox = !first_one || !edges;
+            grow(held + arrivals, true);
+            if (edges) s.edge = std::max(s.edge, m);
+        };
+        exchange(owned, 0, true);
+        exchange(owned + arrivals, arrivals, false);
     }
 
     const bool mdbc = scene.boundary_method == BoundaryMethod::mdbc;
@@ -364,31 +436,27 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
     const bool ahead = D == 1 && !options.synchronous && options.steps_ahead > 0 &&
                        scene.physics.integrator != Integrator::symplectic;
 
-    for (std::size_t d = 0; d < D; ++d) {
+    // Every buffer of device d with stores of `cap` particles.
+    auto buffers_of = [&](std::size_t d, std::size_t cap, std::size_t edge, std::size_t sorted) {
         const Share& s = shares[d];
         DeviceMemoryPlan x;
         if (d < devices.size()) x.device = devices[d];
         x.particles = s.owned;
-        x.capacity = s.capacity;
+        x.capacity = cap;
         x.cells = s.cells;
         const Tiles t = tiles_of(x.device);
         auto add = [&](const std::string& name, std::size_t bytes, bool scales = true) {
             if (bytes) x.buffers.push_back({name, bytes, scales});
         };
-        const std::size_t cap = s.capacity;
         // particle_arrays.cpp allocate() through particle_store.cpp allocate().
-        add("particles: positions", cap * f4);
-        add("particles: velocity+density", cap * f4);
-        add("particles: acceleration+drho/dt", cap * f4);
-        add("particles: ids", cap * u32);
-        add("sort keys", (cap + 1) * u32);
-        add("sort values / cell index", (cap + 1) * u32);
+        for (const auto& a : store_arrays) add(a.name, (cap + a.extra) * a.elem);
         add("reorder scratch", cap * f4);
         // The cell sort (primitives_radix_sort.cpp), sorting the active particles.
         SortTemporaries sort, edge_sort;
-        sort.use((cap + 1) * u32, D == 1 ? p.size() : s.active, t);  // the first sort holds those outside too
+        sort.use((cap + 1) * u32, D == 1 ? p.size() : sorted, t);  // the first sort holds those outside too
         // The edge sort of several devices: its own sort and buffers (cell_pipeline.cpp).
-        if (s.edge) edge_sort.use(s.edge * u32, s.edge, t);
+        const std::size_t edge_cap = edge ? edge + edge / 4 + 1024 : 0;  // cell_pipeline.cpp enqueue_edge_sort()
+        if (edge) edge_sort.use(edge_cap * u32, edge, t);
         add("radix sort keys (ping-pong)", sort.alt + edge_sort.alt);
         add("radix sort values (ping-pong)", sort.alt + edge_sort.alt);
         add("radix sort digit counts", sort.counts + edge_sort.counts);
@@ -425,9 +493,9 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
             add("exchange counters", 3 * u32, false);
             add("key thresholds", (s.columns + 2) * u32, false);
             add("located keys", (s.columns + 2) * u32, false);
-            if (s.edge) {
-                add("edge sort keys", s.edge * u32);
-                add("edge sort values", s.edge * u32);
+            if (edge) {
+                add("edge sort keys", edge_cap * u32);
+                add("edge sort values", edge_cap * u32);
             }
         }
         if (probe_points) {
@@ -440,12 +508,55 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
             add("step records", options.steps_ahead * step_record_doubles * sizeof(double), false);
             add("exchange counters", 3 * u32, false);
         }
+        return x;
+    };
+    for (std::size_t d = 0; d < D; ++d) {
+        const Share& s = shares[d];
+        DeviceMemoryPlan x = buffers_of(d, s.capacity, s.edge, s.active);
+        // A growth that keeps the particles (particle_store.cpp reserve(), from an exchange) holds
+        // the old arrays beside the new ones, one array at a time: its worst moment, everything else
+        // still sized for the old capacity, may be the device's peak.
+        for (const auto& [from, to, edge, sorted, tables, inbox] : s.kept_growths) {
+            DeviceMemoryPlan g = buffers_of(d, from, edge, sorted);
+            // Not made yet then: the probes' buffers (when first sampled), the cell tables and the
+            // inbox before the first exchange's.
+            auto later = [&, tables = tables, inbox = inbox](const PlannedBuffer& b) {
+                return b.name == "probe points" || b.name == "probe sums" ||
+                       (!tables && (b.name == "cell keys" || b.name == "cell starts" || b.name == "neighbour ranges")) ||
+                       (!inbox && b.name.rfind("exchange inbox: ", 0) == 0);
+            };
+            g.buffers.erase(std::remove_if(g.buffers.begin(), g.buffers.end(), later), g.buffers.end());
+            std::size_t best = 0, best_excess = 0, excess = 0;  // the arrays grown so far: new - old
+            for (std::size_t k = 0; k < std::size(store_arrays); ++k) {
+                const auto& a = store_arrays[k];
+                const std::size_t now = excess + (to + a.extra) * a.elem;  // new k made, old k still held
+                if (now > best_excess) best_excess = now, best = k;
+                excess += (to - from) * a.elem;
+            }
+            if (g.total_bytes() + best_excess <= x.total_bytes()) continue;
+            for (std::size_t k = 0; k <= best; ++k) {
+                const auto& a = store_arrays[k];
+                for (auto& b : g.buffers)
+                    if (b.name == a.name) b.bytes = (k < best ? 0 : b.bytes) + (to + a.extra) * a.elem;
+            }
+            g.capacity = s.capacity;
+            x = std::move(g);
+            plan.notes.push_back("device " + std::to_string(d) + ": its store grows at the first exchanges (from " +
+                                 std::to_string(from) + " to " + std::to_string(to) +
+                                 " particles) keeping its particles; the old arrays beside the new ones are its peak");
+        }
         plan.devices.push_back(std::move(x));
     }
-    if (D > 1) {
-        plan.notes.push_back("several devices: the split is estimated as equal particle counts per slab; the "
-                             "balancer's cuts, and with --balance dynamic its calibration (which uploads samples of up "
-                             "to the whole scene, at most 4 M particles, to each device), can make a store larger");
+    if (D > 1 && options.balance == BalanceMode::dynamic) {
+        plan.notes.push_back("several devices, --balance dynamic: the split here is the balancer's equal-work first "
+                             "cuts (those of --balance static); the calibration times each device on samples of up to "
+                             "the whole scene (at most 4 M particles, uploaded to each device) and cuts by those times, "
+                             "which can give a device more particles and a larger store");
+    }
+    if (D > 1 && mdbc) {
+        plan.notes.push_back("several devices with mDBC: the engine keeps cuts away from columns whose boundary "
+                             "particles' ghost nodes lie beyond the halo; the split here does not, so a cut may move "
+                             "by a column or two");
     }
     plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
                          "when the fluid spreads over more cells");
