@@ -36,6 +36,18 @@ inline std::string work_dir(const std::string& name) {
     return dir;
 }
 
+// How many devices a selection picks (`clsph devices --devices SPEC`).
+inline std::size_t devices_picked(const std::string& spec) {
+    std::string log;
+    run({"devices", "--devices", spec}, log);
+    const auto at = log.find("picks:");
+    if (at == std::string::npos) return 0;
+    std::istringstream in(log.substr(at + 6));
+    std::size_t n = 0;
+    for (std::string index; in >> index;) ++n;
+    return n;
+}
+
 inline std::vector<std::string> args(std::initializer_list<std::vector<std::string>> parts) {
     std::vector<std::string> out;
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());

@@ -11,18 +11,6 @@ using namespace cli_test;
 
 namespace {
 
-// How many devices `--devices all` picks (2 pocl + rusticl in CI: 3).
-std::size_t device_count() {
-    std::string log;
-    run({"devices", "--devices", "all"}, log);
-    const auto at = log.find("picks:");
-    if (at == std::string::npos) return 0;
-    std::istringstream in(log.substr(at + 6));
-    std::size_t n = 0;
-    for (std::string index; in >> index;) ++n;
-    return n;
-}
-
 struct Faulted {
     int code = 0;
     std::string log;
@@ -73,7 +61,7 @@ TEST_CASE("a download failing mid-run on one device: exit 3, the frame and the s
 }
 
 TEST_CASE("failures on the last of several devices: exit 3 and the failing device named, no hang") {
-    const std::size_t n = device_count();
+    const std::size_t n = devices_picked("all");
     REQUIRE(n >= 1);
     const std::string last = std::to_string(n - 1);
     SUBCASE("a launch") {
@@ -100,7 +88,7 @@ TEST_CASE("failures on the last of several devices: exit 3 and the failing devic
 }
 
 TEST_CASE("an allocation or a build failing during set-up: exit 3, named, no output directory") {
-    const std::size_t n = device_count();
+    const std::size_t n = devices_picked("all");
     REQUIRE(n >= 1);
     for (const char* devices_text : {"0", "all"}) {
         const std::string devices = devices_text;

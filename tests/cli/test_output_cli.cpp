@@ -122,18 +122,6 @@ TEST_CASE("--fields: frames and CSV hold only the arrays asked for, the same val
 
 namespace {
 
-// How many devices a selection picks (`clsph devices --devices SPEC`).
-std::size_t devices_picked(const std::string& spec) {
-    std::string log;
-    run({"devices", "--devices", spec}, log);
-    const auto at = log.find("picks:");
-    if (at == std::string::npos) return 0;
-    std::istringstream in(log.substr(at + 6));
-    std::size_t n = 0;
-    for (std::string index; in >> index;) ++n;
-    return n;
-}
-
 // Bitwise equality by id (both frames sorted by id).
 std::size_t differences(clsph::Particles a, clsph::Particles b) {
     auto sorted = [](const clsph::Particles& p) {
