@@ -549,9 +549,9 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
     }
     if (D > 1 && options.balance == BalanceMode::dynamic) {
         plan.notes.push_back("several devices, --balance dynamic: the split here is the balancer's equal-work first "
-                             "cuts (those of --balance static); the calibration times each device on samples of up to "
-                             "the whole scene (at most 4 M particles, uploaded to each device) and cuts by those times, "
-                             "which can give a device more particles and a larger store");
+                             "cuts (those of --balance static); the calibration (its samples never larger than a "
+                             "device's store) cuts by the times it measures, which can give a device more particles "
+                             "and a larger store");
     }
     if (D > 1 && mdbc) {
         plan.notes.push_back("several devices with mDBC: the engine keeps cuts away from columns whose boundary "

@@ -10,8 +10,9 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Colum
     // Samples are whole columns around the column that halves the work (so they look like the
     // scene: the same neighbour counts, fluid and walls), growing 4x per round from 4096 particles
     // until a device's force pass takes 20 ms, or the sample is the whole scene (at most 4 M
-    // particles). The last two rounds give fixed + per-unit cost: a GPU is timed at sizes that fill
-    // it, a CPU stops early. Set-up cost: about 2 x (the largest round) per device.
+    // particles), or the next would outgrow the device's store (calibrating never raises the
+    // memory peak). The last two rounds give fixed + per-unit cost: a GPU is timed at sizes that
+    // fill it, a CPU stops early. Set-up cost: about 2 x (the largest round) per device.
     const std::size_t columns = partition.columns();
     const auto& work = census.profile.work;
     const auto& count = census.profile.particles;
@@ -40,6 +41,9 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Colum
             double sampled = 0;
             const Particles taken = sample_of(want, sampled);
             if (taken.size() == previous) break;  // the whole scene already
+            // No sample larger than the device's store after the first: calibrating does not
+            // grow the store beyond what the run gives it (the memory plan's peak holds).
+            if (previous > 0 && taken.size() > s.store->capacity()) break;
             previous = taken.size();
             s.store->upload(taken);
             s.cells->run(*s.store);
