@@ -54,9 +54,10 @@ def main():
     g = math.sqrt(sum(c * c for c in scene["physics"]["gravity"]))
     t_scale = math.sqrt(2.0 * g / L)
 
-    pvds = glob.glob(os.path.join(out, "*.pvd"))
+    # The frames' collection (surface.pvd, written beside it by --surface/--render, lists surfaces).
+    pvds = [p for p in glob.glob(os.path.join(out, "*.pvd")) if os.path.basename(p) != "surface.pvd"]
     if len(pvds) != 1:
-        sys.exit(f"plot_surge: expected one .pvd in {out}, found {len(pvds)}")
+        sys.exit(f"plot_surge: expected one frame collection (.pvd) in {out}, found {len(pvds)}")
     series = []
     for ds in ET.parse(pvds[0]).getroot().iter("DataSet"):
         frame = os.path.join(out, os.path.splitext(ds.get("file"))[0] + ".csv")
