@@ -16,25 +16,33 @@ inline bool is_fluid(const uint id) { return (id >> CLSPH_TYPE_SHIFT) == CLSPH_T
 // dt is read from dt_f[0] (the device's clock writes it: step_clock.cl; the synchronous path writes
 // it from the host). While *halt is set (step_clock.cl) a step changes nothing. A particle with the
 // invalid key left the domain and waits at the end of the sorted arrays to be dropped: it rests.
-__kernel void kick_drift(const uint first, const uint last, __global const float* dt_f, const float rho0,
-                         const uint invalid_key, __global float4* pos, __global float4* velrho,
-                         __global const float4* accel, __global const uint* ids, __global const uint* halt) {
-    const uint i = first + (uint)get_global_id(0);
+// One particle's first half of a step, shared by Leap-frog's kick_drift and Symplectic's predictor:
+// x += (v + a lead) drift, v += a kick, rho += drho kick (a boundary particle: only its density,
+// never below rho0). Past `last`, while halted, or outside the domain: nothing.
+inline void advance(const uint i, const uint last, const float kick, const float drift, const float lead,
+                    const float rho0, const uint invalid_key, __global float4* pos, __global float4* velrho,
+                    __global const float4* accel, __global const uint* ids, __global const uint* halt) {
     if (i >= last || *halt != 0u) return;
     float4 p = pos[i];
     if (as_uint(p.w) == invalid_key) return;
-    const float dt = dt_f[0];
     float4 vr = velrho[i];
     const float4 a = accel[i];
     if (is_fluid(ids[i])) {
-        p.xyz += (vr.xyz + a.xyz * (0.5f * dt)) * dt;
+        p.xyz += (vr.xyz + a.xyz * lead) * drift;
         pos[i] = p;
-        vr.xyz += a.xyz * dt;
-        vr.w += a.w * dt;
+        vr.xyz += a.xyz * kick;
+        vr.w += a.w * kick;
     } else {
-        vr.w = fmax(vr.w + a.w * dt, rho0);
+        vr.w = fmax(vr.w + a.w * kick, rho0);
     }
     velrho[i] = vr;
+}
+
+__kernel void kick_drift(const uint first, const uint last, __global const float* dt_f, const float rho0,
+                         const uint invalid_key, __global float4* pos, __global float4* velrho,
+                         __global const float4* accel, __global const uint* ids, __global const uint* halt) {
+    const float dt = dt_f[0];
+    advance(first + (uint)get_global_id(0), last, dt, dt, 0.5f * dt, rho0, invalid_key, pos, velrho, accel, ids, halt);
 }
 
 // Second kick (old accelerations in `accel`, new ones in `accel_new`), then per work-group: max
@@ -115,22 +123,8 @@ __kernel void commit_density(const uint first, const uint last, __global const f
 __kernel void symplectic_predict(const uint first, const uint last, __global const float* dt_f, const float rho0,
                                  const uint invalid_key, __global float4* pos, __global float4* velrho,
                                  __global const float4* accel, __global const uint* ids, __global const uint* halt) {
-    const uint i = first + (uint)get_global_id(0);
-    if (i >= last || *halt != 0u) return;
-    float4 p = pos[i];
-    if (as_uint(p.w) == invalid_key) return;
     const float hdt = 0.5f * dt_f[0];
-    float4 vr = velrho[i];
-    const float4 a = accel[i];
-    if (is_fluid(ids[i])) {
-        p.xyz += vr.xyz * hdt;
-        pos[i] = p;
-        vr.xyz += a.xyz * hdt;
-        vr.w += a.w * hdt;
-    } else {
-        vr.w = fmax(vr.w + a.w * hdt, rho0);
-    }
-    velrho[i] = vr;
+    advance(first + (uint)get_global_id(0), last, hdt, hdt, 0.0f, rho0, invalid_key, pos, velrho, accel, ids, halt);
 }
 
 __kernel void symplectic_correct(const uint first, const uint last, __global const float* dt_f, const float rho0,
