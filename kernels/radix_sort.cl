@@ -7,6 +7,10 @@
 //                   of the tile to consecutive addresses from that entry on.
 // Key bits outside the digit never affect the order and are carried along unchanged.
 //
+// Each array is passed as a buffer and an element offset into it, so that the ping-pong of a sort
+// can live in a buffer that another stage owns (the reorder scratch); offsets are multiples of 4
+// (the uint4 loads stay aligned).
+//
 // Build options: -DWG=<work-group size, power of two, >= 16> -DITEMS=<pairs per work-item,
 // multiple of 4> -DDIGIT_BITS=<widest digit, 1..8>.
 #include "work_group_scan.h"
@@ -50,8 +54,9 @@ inline void load_blocked(__global const uint* src, const uint base, const uint c
     }
 }
 
-__kernel void sort_histogram(__global const uint* keys, const uint n, const uint shift, const uint bits,
-                             const uint groups, __global uint* counts) {
+__kernel void sort_histogram(__global const uint* keys, const uint keys_at, const uint n, const uint shift,
+                             const uint bits, const uint groups, __global uint* counts) {
+    keys += keys_at;
     __local uint hist[RADIX_MAX];
     const uint lid = get_local_id(0);
     const uint g = get_group_id(0);
@@ -136,9 +141,14 @@ inline void rank_and_exchange(uint* key, uint* val, const uint shift, const uint
     }
 }
 
-__kernel void sort_scatter(__global const uint* keys_in, __global const uint* vals_in, __global uint* keys_out,
-                           __global uint* vals_out, const uint n, const uint shift, const uint bits,
-                           const uint groups, __global const uint* offsets) {
+__kernel void sort_scatter(__global const uint* keys_in, const uint keys_in_at, __global const uint* vals_in,
+                           const uint vals_in_at, __global uint* keys_out, const uint keys_out_at,
+                           __global uint* vals_out, const uint vals_out_at, const uint n, const uint shift,
+                           const uint bits, const uint groups, __global const uint* offsets) {
+    keys_in += keys_in_at;
+    vals_in += vals_in_at;
+    keys_out += keys_out_at;
+    vals_out += vals_out_at;
     __local uint exch[2 * PADDED_TILE];
     __local uint digit_base[RADIX_MAX];  // where position 0 of the tile would go for each digit
     __local uint scratch[2 * WG];

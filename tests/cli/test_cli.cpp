@@ -195,7 +195,7 @@ TEST_CASE("--dry-run: the memory plan first, then the measured peak within 2 % o
     REQUIRE(plan != std::string::npos);
     REQUIRE(measured != std::string::npos);
     CHECK(plan < measured);
-    for (const char* name : {"particles: positions", "neighbour ranges", "radix sort keys (ping-pong)", "reorder scratch",
+    for (const char* name : {"particles: positions", "neighbour ranges", "radix sort digit counts", "reorder scratch",
                              "CL_DEVICE_MAX_MEM_ALLOC_SIZE", "CL_DEVICE_GLOBAL_MEM_SIZE", "the largest scene"})
         CHECK(log.find(name, plan) < measured);
     // A line per device: "...: N particles, peak X of device memory (...); predicted Y (+0.12 %)".

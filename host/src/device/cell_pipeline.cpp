@@ -52,6 +52,17 @@ void CellPipeline::reserve_cells(std::size_t k) {
     cell_capacity_ = cap;
 }
 
+void CellPipeline::sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n,
+                              ParticleStore& ps) {
+    // The reorder scratch is free while keys sort (the reorder comes after): the sort ping-pongs
+    // through it rather than through 8 bytes a particle of its own. Only stores of a few dozen
+    // particles are too small to lend it.
+    if (RadixSort::borrowed_elements(n) * sizeof(cl_uint) <= ps.scratch.bytes())
+        sorter.sort_through(keys, vals, n, grid_.key_bits(), ps.scratch);
+    else
+        sorter.sort(keys, vals, n, grid_.key_bits());
+}
+
 CellPassResult CellPipeline::run(ParticleStore& ps) {
     const std::size_t n = ps.ranges.active();
     CellPassResult result;
@@ -81,7 +92,7 @@ void CellPipeline::enqueue_sort_keys(ParticleStore& ps, const SortSelection& s) 
     set_args(keys_k_, s.n, s.keep_first, s.keep_end, s.tail_first, s.keys.lo, s.keys.hi, cl_uint{s.settle ? 1u : 0u},
              grid_.params(), ps.pos, ps.keys, ps.vals);
     device_.launch("cells.keys", keys_k_, s.n, wg_);
-    sort_.sort(ps.keys, ps.vals, s.n, grid_.key_bits());
+    sort_pairs(sort_, ps.keys, ps.vals, s.n, ps);
 }
 
 void CellPipeline::enqueue_reorder(ParticleStore& ps, std::size_t n, std::size_t dst_offset) {
@@ -113,7 +124,7 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
     set_args(edge_keys_k_, e.left, e.right, e.end, e.drop_first, e.drop_end, e.keys.lo, e.keys.hi,
              grid_.params().invalid_key, ps.pos, edge_keys_, edge_vals_);
     d.launch("edge.keys", edge_keys_k_, m, wg_);
-    edge_sort_.sort(edge_keys_, edge_vals_, m, grid_.key_bits());
+    sort_pairs(edge_sort_, edge_keys_, edge_vals_, m, ps);
     // All four arrays' edge entries in sorted order into scratch (one launch), then back into place
     // (one launch): [0, left) and the right part's kept entries to [right, right + valid_right).
     if (edge_scratch_bytes(m) > ps.scratch.bytes())
@@ -138,7 +149,7 @@ void CellPipeline::enqueue_sort_with_arrivals(ParticleStore& ps, std::size_t hel
     set_args(arrival_keys_k_, held, left, right, keep_first, keep_end, keys.lo, keys.hi, grid_.params().invalid_key,
              ps.pos, ps.keys, ps.vals);
     device_.launch("cells.arrival_keys", arrival_keys_k_, n, wg_);
-    sort_.sort(ps.keys, ps.vals, n, grid_.key_bits());
+    sort_pairs(sort_, ps.keys, ps.vals, n, ps);
     enqueue_reorder(ps, n, 0);
 }
 

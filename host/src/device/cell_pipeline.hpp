@@ -138,6 +138,8 @@ public:
 
 private:
     void reserve_cells(std::size_t k);
+    // Sorts n (key, value) pairs on the grid's key bits, ping-ponging through the store's reorder scratch.
+    void sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n, ParticleStore& ps);
     cl_rt::Device& device_;
     const Grid& grid_;
     RadixSort sort_, edge_sort_;

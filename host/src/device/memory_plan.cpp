@@ -75,14 +75,16 @@ struct ScanSums {
     }
 };
 
-// One RadixSort object: ping-pong keys and values as large as the caller's, the digit counts and
-// its scan's tile sums.
+// One RadixSort object: the digit counts and its scan's tile sums, and ping-pong keys and values
+// as large as the caller's unless it borrows the reorder scratch (`lent` bytes) for them
+// (cell_pipeline.cpp sort_pairs(), RadixSort::borrowed_elements()).
 struct SortTemporaries {
     std::size_t alt = 0, counts = 0;
     ScanSums sums;
-    void use(std::size_t caller_bytes, std::size_t n, const Tiles& t) {
+    void use(std::size_t caller_bytes, std::size_t n, const Tiles& t, std::size_t lent) {
         if (n < 2) return;
-        alt = std::max({alt, caller_bytes, n * u32});
+        const std::size_t borrowed = 2 * ((n + 63) / 64 * 64) * u32;
+        if (borrowed > lent) alt = std::max({alt, caller_bytes, n * u32});
         const std::size_t table = 256 * ceil_div(n, t.sort);
         counts = std::max(counts, (table + 1) * u32);
         sums.use(table, t.scan);
@@ -453,10 +455,10 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
         add("reorder scratch", cap * f4);
         // The cell sort (primitives_radix_sort.cpp), sorting the active particles.
         SortTemporaries sort, edge_sort;
-        sort.use((cap + 1) * u32, D == 1 ? p.size() : sorted, t);  // the first sort holds those outside too
+        sort.use((cap + 1) * u32, D == 1 ? p.size() : sorted, t, cap * f4);  // the first sort holds those outside too
         // The edge sort of several devices: its own sort and buffers (cell_pipeline.cpp).
         const std::size_t edge_cap = edge ? edge + edge / 4 + 1024 : 0;  // cell_pipeline.cpp enqueue_edge_sort()
-        if (edge) edge_sort.use(edge_cap * u32, edge, t);
+        if (edge) edge_sort.use(edge_cap * u32, edge, t, cap * f4);
         add("radix sort keys (ping-pong)", sort.alt + edge_sort.alt);
         add("radix sort values (ping-pong)", sort.alt + edge_sort.alt);
         add("radix sort digit counts", sort.counts + edge_sort.counts);

@@ -57,6 +57,13 @@ public:
     explicit RadixSort(cl_rt::Device& device);
     RadixSort(cl_rt::Device& device, const Config& config);
     void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits);
+    // As sort(), but ping-pongs through `scratch` (keys from element 0, values from element
+    // borrowed_elements(n) / 2) instead of buffers of its own, so it needs no memory beyond the digit
+    // counts; `scratch` must hold borrowed_elements(n) uint and its contents are lost. The buffers are
+    // never swapped: after an odd number of passes the pairs are copied back into keys and values.
+    void sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                      const cl_rt::Buffer& scratch);
+    static std::size_t borrowed_elements(std::size_t n);  // uint a sort_through() of n pairs borrows
     std::size_t scratch_bytes() const;
     std::size_t tile() const;                      // pairs per work-group, as resolved for this device
     unsigned passes(unsigned key_bits) const;      // passes a sort of key_bits bits makes

@@ -1,5 +1,6 @@
 // RadixSort: LSD passes of up to digit_bits bits, each histogram -> scan -> scatter over tiles of
-// WG * ITEMS pairs (see kernels/radix_sort.cl), ping-ponging between the caller's buffers and ours.
+// WG * ITEMS pairs (see kernels/radix_sort.cl), ping-ponging between the caller's buffers and ours
+// or, in sort_through(), a buffer the caller lends.
 #include "device/primitives.hpp"
 
 #include "device/primitives_launch.hpp"
@@ -66,33 +67,77 @@ struct RadixSort::Impl {
 
     unsigned passes(unsigned key_bits) const { return (key_bits + config.digit_bits - 1) / config.digit_bits; }
 
-    void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
+    // Checks the arguments and sizes the digit counts; false when there is nothing to sort.
+    bool prepare(const cl_rt::Buffer& keys, const cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
         if (key_bits < 1 || key_bits > 32)
             throw Error("radix sort: key_bits must be 1..32, not " + std::to_string(key_bits));
         require_elements("radix sort keys", keys, n);
         require_elements("radix sort values", values, n);
-        if (n < 2) return;
+        if (n < 2) return false;
+        as_uint(n);
+        const std::size_t table = (std::size_t{1} << config.digit_bits) * groups_of(n);
+        ensure_capacity(dev, counts, (table + 1) * sizeof(cl_uint), "radix sort digit counts");
+        return true;
+    }
+
+    std::size_t groups_of(std::size_t n) const { return (n + tile - 1) / tile; }
+
+    // A pass's array: a buffer and the element its array starts at.
+    struct Span {
+        const cl_rt::Buffer* buffer;
+        cl_uint at;
+    };
+
+    // One pass on the digit at `shift`, from (keys, values) to (keys_out, values_out).
+    void pass(Span keys, Span values, Span keys_out, Span values_out, std::size_t n, unsigned shift, unsigned key_bits) {
         const cl_uint count = as_uint(n);
-        const std::size_t groups = (n + tile - 1) / tile;
+        const std::size_t groups = groups_of(n);
         const std::size_t wg = config.work_group;
+        const cl_uint bits = std::min(config.digit_bits, key_bits - shift);
+        const std::size_t entries = (std::size_t{1} << bits) * groups;
+        set_args(histogram, keys.buffer->get(), keys.at, count, cl_uint{shift}, bits, as_uint(groups), counts.get());
+        dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
+        scan.exclusive(counts, counts, entries);
+        set_args(scatter, keys.buffer->get(), keys.at, values.buffer->get(), values.at, keys_out.buffer->get(),
+                 keys_out.at, values_out.buffer->get(), values_out.at, count, cl_uint{shift}, bits, as_uint(groups),
+                 counts.get());
+        dev.launch(config.name + ".scatter", scatter, groups * wg, wg);
+    }
+
+    void sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
+        if (!prepare(keys, values, n, key_bits)) return;
         // Our buffers trade places with the caller's: size them so that the caller never gets a
         // smaller buffer than it gave us.
         ensure_capacity(dev, keys_alt, std::max(keys.bytes(), n * sizeof(cl_uint)), "radix sort keys (ping-pong)");
         ensure_capacity(dev, values_alt, std::max(values.bytes(), n * sizeof(cl_uint)), "radix sort values (ping-pong)");
-        const std::size_t table = (std::size_t{1} << config.digit_bits) * groups;
-        ensure_capacity(dev, counts, (table + 1) * sizeof(cl_uint), "radix sort digit counts");
-
         for (unsigned shift = 0; shift < key_bits; shift += config.digit_bits) {
-            const cl_uint bits = std::min(config.digit_bits, key_bits - shift);
-            const std::size_t entries = (std::size_t{1} << bits) * groups;
-            set_args(histogram, keys.get(), count, cl_uint{shift}, bits, as_uint(groups), counts.get());
-            dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
-            scan.exclusive(counts, counts, entries);
-            set_args(scatter, keys.get(), values.get(), keys_alt.get(), values_alt.get(), count, cl_uint{shift}, bits,
-                     as_uint(groups), counts.get());
-            dev.launch(config.name + ".scatter", scatter, groups * wg, wg);
+            pass({&keys, 0}, {&values, 0}, {&keys_alt, 0}, {&values_alt, 0}, n, shift, key_bits);
             keys.swap(keys_alt);
             values.swap(values_alt);
+        }
+    }
+
+    void sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                      const cl_rt::Buffer& scratch) {
+        if (!prepare(keys, values, n, key_bits)) return;
+        const std::size_t half = RadixSort::borrowed_elements(n) / 2;
+        if (scratch.bytes() < 2 * half * sizeof(cl_uint))
+            throw Error("radix sort: a borrowed buffer of " + std::to_string(scratch.bytes()) + " bytes is too small for " +
+                        std::to_string(n) + " pairs (" + std::to_string(2 * half * sizeof(cl_uint)) + " needed)");
+        as_uint(2 * half);
+        const Span home[2] = {{&keys, 0}, {&values, 0}};
+        const Span away[2] = {{&scratch, 0}, {&scratch, as_uint(half)}};
+        bool at_home = true;
+        for (unsigned shift = 0; shift < key_bits; shift += config.digit_bits) {
+            const Span* in = at_home ? home : away;
+            const Span* out = at_home ? away : home;
+            pass(in[0], in[1], out[0], out[1], n, shift, key_bits);
+            at_home = !at_home;
+        }
+        // After an odd number of passes the pairs are in the scratch: copy them home.
+        if (!at_home) {
+            dev.copy(scratch, keys, n * sizeof(cl_uint), 0, 0);
+            dev.copy(scratch, values, n * sizeof(cl_uint), half * sizeof(cl_uint), 0);
         }
     }
 };
@@ -102,6 +147,16 @@ RadixSort::RadixSort(cl_rt::Device& device, const Config& config) : impl_(std::m
 
 void RadixSort::sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits) {
     impl_->sort(keys, values, n, key_bits);
+}
+
+void RadixSort::sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                             const cl_rt::Buffer& scratch) {
+    impl_->sort_through(keys, values, n, key_bits, scratch);
+}
+
+std::size_t RadixSort::borrowed_elements(std::size_t n) {
+    const std::size_t half = (n + 63) / 64 * 64;  // values start 256-byte aligned
+    return 2 * half;
 }
 
 std::size_t RadixSort::scratch_bytes() const {
