@@ -8,6 +8,7 @@ CLSPH_PACKAGES=(g++ cmake make ocl-icd-opencl-dev opencl-headers opencl-clhpp-he
   python3-dev pybind11-dev python3-numpy python3-pytest  # the Python module (python/) and its tests
   libstb-dev          # PNG images (stb_image_write, compiled into the library: no link dependency)
   zlib1g-dev          # compressed VTU frames (clsph run --compress)
+  libopenmpi-dev openmpi-bin  # MPI (CMake option CLSPH_MPI, on where found): runs across ranks (host/src/mpi/), tests/mpi/ under mpirun
   glmark2-data        # scenes/bunny.json: the Stanford bunny mesh (/usr/share/glmark2/models/bunny.obj)
   clang libclang-rt-14-dev)  # scripts/fuzz.sh: clang, and compiler-rt for libFuzzer and the sanitizers (only recommended by clang)
 missing=()
