@@ -48,8 +48,9 @@ void print_plan(const MemoryPlan& mp) {
               << mp.devices.size() << (mp.devices.size() == 1 ? " device" : " devices") << ":\n";
     for (std::size_t d = 0; d < mp.devices.size(); ++d) {
         const auto& x = mp.devices[d];
-        std::snprintf(text, sizeof text, "  #%zu %s: %zu particles owned, arrays for %zu, %zu non-empty cells\n",
-                      x.device.index, x.device.name.c_str(), x.particles, x.capacity, x.cells);
+        const std::string slab = x.slabs > 1 ? " slab " + std::to_string(x.slab + 1) + "/" + std::to_string(x.slabs) : "";
+        std::snprintf(text, sizeof text, "  #%zu %s%s: %zu particles owned, arrays for %zu, %zu non-empty cells\n",
+                      x.device.index, x.device.name.c_str(), slab.c_str(), x.particles, x.capacity, x.cells);
         std::cout << text;
         std::snprintf(text, sizeof text, "    %-34s %12s %10s  %s\n", "buffer", "bytes", "B/particle", "");
         std::cout << text;
@@ -70,10 +71,14 @@ void print_plan(const MemoryPlan& mp) {
         std::cout << text;
         const std::size_t most = mp.largest_particles(d);
         std::snprintf(text, sizeof text,
-                      "    device memory %s (CL_DEVICE_GLOBAL_MEM_SIZE): %s; the largest scene this device's share fits: "
+                      "    device memory %s (CL_DEVICE_GLOBAL_MEM_SIZE)%s: %s; the largest scene this device's share fits: "
                       "%zu particles (%.3g), physics.dp = %.3g\n",
                       bytes_text(static_cast<double>(x.device.global_memory)).c_str(),
-                      x.fits() ? "fits" : "DOES NOT FIT", most, static_cast<double>(most), mp.dp_for(most));
+                      x.slabs > 1 ? (", " + bytes_text(static_cast<double>(mp.device_bytes(d))) + " for its " +
+                                     std::to_string(x.slabs) + " slabs").c_str()
+                                  : "",
+                      x.fits() && (x.device.global_memory == 0 || mp.device_bytes(d) <= x.device.global_memory) ? "fits" : "DOES NOT FIT",
+                      most, static_cast<double>(most), mp.dp_for(most));
         std::cout << text;
     }
     if (mp.devices.size() > 1) {

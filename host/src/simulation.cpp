@@ -109,10 +109,16 @@ Simulation::Simulation(const Scene& scene, const Checkpoint& c, const Options& o
 void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene::LatticePlan* lattice) {
     auto& m = *this;
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
-    m.devices = cl_rt::open_devices(options.devices.empty() ? default_device_spec() : options.devices, open);
-    const auto infos = cl_rt::infos(m.devices);  // before any allocation:
-    check_fits(lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
-                    : plan_memory(scene, p, infos, options));
+    if (options.seams) open.max_allocation = options.seams->max_allocation;
+    const std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
+    // The memory plan before any context or buffer: a scene that cannot fit stops here, and a device
+    // whose slab would hold a buffer above its largest allocation is opened as several slabs.
+    const auto infos = cl_rt::selected_infos(spec, open);
+    const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
+                                    : plan_memory(scene, p, infos, options);
+    check_fits(plan);
+    open.slabs = plan.slabs_per_device();
+    m.devices = cl_rt::open_devices(spec, open);
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
         d->profiler().enable(options.profile);

@@ -5,12 +5,15 @@
 #include "clsph/memory_plan.hpp"
 #include "clsph/scene_io.hpp"
 #include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
 #include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -39,7 +42,11 @@ void check_prediction(const Scene& scene, const std::string& spec, Options o, in
     auto sim_ptr = on_device ? std::make_unique<Simulation>(scene, o) : std::make_unique<Simulation>(scene, p, o);
     Simulation& sim = *sim_ptr;
     const auto all = list_devices();
-    for (auto i : select_devices(all, spec)) infos.push_back(all[i]);
+    for (auto i : select_devices(all, spec)) {
+        infos.push_back(all[i]);
+        if (o.seams && o.seams->max_allocation)  // as the driver would report it
+            infos.back().max_allocation = std::min<std::uint64_t>(infos.back().max_allocation, o.seams->max_allocation);
+    }
     const MemoryPlan plan = on_device ? plan_memory(scene, infos, o) : plan_memory(scene, p, infos, o);
     for (int k = 0; k < steps; ++k) sim.step();
     if (!scene.probes.empty()) sim.sample_probes();
@@ -156,6 +163,89 @@ TEST_CASE("a scene that does not fit stops before any allocation, naming physics
     small = test::devices().front()->info();
     small.max_allocation = 1024;
     CHECK_FALSE(plan_memory(s, p, {small}).fits());
+}
+
+TEST_CASE("a device whose buffers would outgrow one allocation runs as several slabs, bitwise the same run") {
+    // The driver's CL_DEVICE_MAX_MEM_ALLOC_SIZE lowered (testing::Seams) below the largest buffer
+    // one slab of the scene needs: the plan gives the device more slabs, each buffer within the
+    // limit (the memory tracker refuses any larger, as the driver would), and the run's state after
+    // 20 steps is bitwise the one-slab run's (the same kernels; the result does not depend on the
+    // slab count).
+    // A shallow layer along a long tank (many columns, so slabs are more than their halos), moving
+    // so that particles cross the cuts between slabs.
+    const double L = 0.146;
+    Scene s = test::dam_break_slice(L, L / 8, 10.0, x_min | x_max | z_min);
+    s.physics.coefsound = 10;
+    s.domain.split_axis = 0;
+    s.fluids.front().max[0] = 10 * L;
+    s.fluids.front().max[2] = 0.5 * L;
+    s.fluids.front().velocity = {1.0, 0.0, 0.0};
+    const Particles p = s.build_particles();
+    DeviceInfo info = test::devices().front()->info();
+    const MemoryPlan one = plan_memory(s, p, {info});
+    REQUIRE(one.devices.size() == 1);
+    const std::size_t limit = one.devices[0].largest().bytes * 3 / 5;
+    info.max_allocation = limit;
+    const MemoryPlan split = plan_memory(s, p, {info});
+    CAPTURE(limit);
+    REQUIRE(split.devices.size() >= 2);
+    CHECK(split.slabs_per_device() == std::vector<std::size_t>{split.devices.size()});
+    for (std::size_t k = 0; k < split.devices.size(); ++k) {
+        CHECK(split.devices[k].slab == k);
+        CHECK(split.devices[k].slabs == split.devices.size());
+        CHECK(split.devices[k].largest().bytes <= limit);
+    }
+    CHECK(split.fits());
+    CHECK(std::any_of(split.notes.begin(), split.notes.end(),
+                      [](const std::string& n) { return n.find("slabs: one slab's buffers would exceed") != std::string::npos; }));
+    // The slabs share the device's memory: each fits alone, together they must fit too.
+    DeviceInfo tight = info;
+    tight.global_memory = split.device_bytes(0) - 1;
+    const MemoryPlan over = plan_memory(s, p, {tight});
+    REQUIRE(over.devices.size() == split.devices.size());
+    for (const auto& x : over.devices) CHECK(x.fits());
+    CHECK_FALSE(over.fits());
+    CHECK_THROWS_AS(check_fits(over), SceneError);
+
+    std::vector<Particles> out;
+    std::vector<std::size_t> slabs;
+    for (const bool lowered : {false, true}) {
+        Options o;
+        o.devices = test::device_spec(1);
+        o.balance = BalanceMode::fixed;
+        if (lowered) {
+            testing::Seams seams;
+            seams.max_allocation = limit;
+            testing::set_seams(o, seams);
+        }
+        Simulation sim(s, p, o);
+        for (int k = 0; k < 20; ++k) sim.step();
+        slabs.push_back(sim.memory().size());
+        if (lowered)
+            for (const auto& m : sim.memory()) {
+                CAPTURE(m.device);
+                CHECK(m.device.find("slab ") != std::string::npos);
+            }
+        out.push_back(sim.particles());
+    }
+    CHECK(slabs[0] == 1);
+    CHECK(slabs[1] == split.devices.size());
+    REQUIRE(out[0].size() == out[1].size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < out[0].size(); ++i) {
+        float a = out[0].density[i], b = out[1].density[i];
+        differ += out[0].id[i] != out[1].id[i] || out[0].position[i] != out[1].position[i] ||
+                  std::memcmp(&a, &b, sizeof a) != 0;
+    }
+    CHECK(differ == 0);
+
+    // And the plan of a split run against what each slab measured (within 2 %, as for devices).
+    Options o;
+    testing::Seams seams;
+    seams.max_allocation = limit;
+    testing::set_seams(o, seams);
+    o.balance = BalanceMode::fixed;
+    check_prediction(s, test::device_spec(1), o);
 }
 
 }  // TEST_SUITE

@@ -26,6 +26,10 @@ struct PlannedBuffer {
 
 struct DeviceMemoryPlan {
     DeviceInfo device;
+    // A device runs several slabs (each its own buffers, the balancer cutting between them as
+    // between devices) when one slab's largest buffer would exceed CL_DEVICE_MAX_MEM_ALLOC_SIZE:
+    // this entry is slab `slab` of the device's `slabs` (MemoryPlan::devices holds them in a row).
+    std::size_t slab = 0, slabs = 1;
     std::size_t particles = 0;  // owned at the start
     std::size_t capacity = 0;   // particles the arrays hold (the engine's sizing rule)
     std::size_t cells = 0;      // non-empty cells at the start (the cell tables' size)
@@ -35,28 +39,37 @@ struct DeviceMemoryPlan {
     std::size_t scaling_bytes() const;  // of buffers that grow with the particle count
     std::size_t fixed_bytes() const { return total_bytes() - scaling_bytes(); }
     const PlannedBuffer& largest() const;
-    // Within CL_DEVICE_GLOBAL_MEM_SIZE and CL_DEVICE_MAX_MEM_ALLOC_SIZE (a limit of 0: not known).
+    // Its largest buffer within CL_DEVICE_MAX_MEM_ALLOC_SIZE and its total within
+    // CL_DEVICE_GLOBAL_MEM_SIZE (a limit of 0: not known). A device of several slabs must also fit
+    // them all together: MemoryPlan::fits().
     bool fits() const;
 };
 
 struct MemoryPlan {
     std::size_t particles = 0;  // the scene's
     double dp = 0;              // the scene's physics.dp
-    std::vector<DeviceMemoryPlan> devices;
+    std::vector<DeviceMemoryPlan> devices;  // one per slab: a device of several slabs appears in a row
     // Caveats of this prediction for this run (several devices: the split is estimated, ...).
     std::vector<std::string> notes;
 
-    // The most scene particles for which this device's share still fits its global memory (its
-    // buffers that scale, scaled; the fixed ones kept); the whole selection: the least of these.
-    std::size_t largest_particles(std::size_t device) const;
+    // The most scene particles for which the device of entry d still fits its global memory (the
+    // buffers of all its slabs that scale, scaled; the fixed ones kept; more slabs where a buffer
+    // would outgrow one allocation); the whole selection: the least of these.
+    std::size_t largest_particles(std::size_t entry) const;
     std::size_t largest_particles() const;
     // The dp that would give `n` particles for this scene's geometry (particle count ~ 1 / dp^3).
     double dp_for(std::size_t n) const;
+    // Bytes the slabs of entry d's device need together.
+    std::size_t device_bytes(std::size_t entry) const;
+    // Slabs per selected device, in the selection's order (what the devices are opened as).
+    std::vector<std::size_t> slabs_per_device() const;
     bool fits() const;
 };
 
 // The plan for `scene` with particles `p` on `devices` (in the selection's order) under `options`
-// (capacity and cell headroom, the step ahead).
+// (capacity and cell headroom, the step ahead). A device whose slab would hold a buffer larger than
+// its CL_DEVICE_MAX_MEM_ALLOC_SIZE is given as many slabs as keep every buffer within it (at most
+// 64; a note says so), which is how Simulation opens it.
 MemoryPlan plan_memory(const Scene& scene, const Particles& p, const std::vector<DeviceInfo>& devices,
                        const Options& options = {});
 

@@ -25,6 +25,9 @@ struct Seams {
     // Every exchange sends from whole slabs and merges with one sort, the path a particle that
     // jumped more than a column takes (the CFL limit rules that out, so tests force it here).
     bool wide_exchange = false;
+    // Every device's CL_DEVICE_MAX_MEM_ALLOC_SIZE as if its driver reported this (0: as reported):
+    // the memory plan splits devices into slabs by it and the memory tracker refuses larger buffers.
+    std::uint64_t max_allocation = 0;
     // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };

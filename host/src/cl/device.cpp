@@ -1,6 +1,9 @@
 #include "cl/device.hpp"
 
 #include "cl/errors.hpp"
+#include "clsph/error.hpp"
+
+#include <algorithm>
 
 #include <chrono>
 
@@ -10,7 +13,7 @@ std::vector<cl::Device> platform_devices(const cl::Platform& platform);  // devi
 
 Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const OpenOptions& options)
     : info_(std::move(info)),
-      label_("#" + std::to_string(info_.index) + " " + info_.name + " (" + info_.platform + ")"),
+      label_("#" + std::to_string(info_.index) + " " + info_.name + " (" + info_.platform + ")" + options.label_suffix),
       quirks_(quirks_for(info_)),
       device_(std::move(device)),
       context_(std::move(context)),
@@ -135,9 +138,28 @@ void Device::copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t
          [&] { return queue_.enqueueCopyBuffer(src.get(), dst.get(), src_offset, dst_offset, bytes); });
 }
 
+namespace {
+void apply(DeviceInfo& info, const OpenOptions& options) {
+    if (options.max_allocation) info.max_allocation = std::min<std::uint64_t>(info.max_allocation, options.max_allocation);
+}
+}  // namespace
+
+std::vector<DeviceInfo> selected_infos(const std::string& spec, const OpenOptions& options) {
+    const auto all = list_devices();
+    std::vector<DeviceInfo> out;
+    for (std::size_t i : select_devices(all, spec)) {
+        out.push_back(all[i]);
+        apply(out.back(), options);
+    }
+    return out;
+}
+
 std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const OpenOptions& options) {
     const auto infos = list_devices();
     const auto chosen = select_devices(infos, spec);
+    if (!options.slabs.empty() && options.slabs.size() != chosen.size())
+        throw Error("opening devices: slabs given for " + std::to_string(options.slabs.size()) + " devices, but '" + spec +
+                    "' selects " + std::to_string(chosen.size()));
     // Map stable indices back to cl::Device objects by walking platforms in the same order.
     std::vector<cl::Platform> platforms;
     cl::Platform::get(&platforms);
@@ -150,18 +172,24 @@ std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const
         all.insert(all.end(), devs.begin(), devs.end());
     }
     std::vector<std::unique_ptr<Device>> out;
-    for (std::size_t i : chosen) {
-        const auto& info = infos[i];
+    for (std::size_t c = 0; c < chosen.size(); ++c) {
+        const std::size_t i = chosen[c];
+        DeviceInfo info = infos[i];
+        apply(info, options);
         cl::Device dev = all.at(i);
         cl_int err = CL_SUCCESS;
         const std::string name = "#" + std::to_string(i) + " " + info.name;
         cl::Context ctx = guarded("creating a context", name, [&] { return cl::Context(dev, nullptr, nullptr, nullptr, &err); });
         check(err, "creating a context", name);
-        OpenOptions mine = options;  // the faults planned for this device only
-        mine.faults.clear();
-        for (const auto& f : options.faults)
-            if (f.device == out.size()) mine.faults.push_back(f);
-        out.push_back(std::make_unique<Device>(info, dev, ctx, mine));
+        const std::size_t slabs = options.slabs.empty() ? 1 : std::max<std::size_t>(1, options.slabs[c]);
+        for (std::size_t k = 0; k < slabs; ++k) {
+            OpenOptions mine = options;  // the faults planned for this device only
+            mine.faults.clear();
+            for (const auto& f : options.faults)
+                if (f.device == out.size()) mine.faults.push_back(f);
+            if (slabs > 1) mine.label_suffix = " slab " + std::to_string(k + 1) + "/" + std::to_string(slabs);
+            out.push_back(std::make_unique<Device>(info, dev, ctx, mine));
+        }
     }
     return out;
 }

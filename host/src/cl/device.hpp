@@ -21,8 +21,14 @@ namespace clsph::cl_rt {
 
 struct OpenOptions {
     bool profiling = false;  // time every named launch (events, or host clocks where events lie)
-    // Tests: OpenCL calls that fail (Fault::device is the position in the selection).
+    // Tests: OpenCL calls that fail (Fault::device is the position among the opened devices).
     std::vector<testing::Fault> faults = {};
+    // Tests: each device's CL_DEVICE_MAX_MEM_ALLOC_SIZE as if its driver said so (0: as it says).
+    std::uint64_t max_allocation = 0;
+    // Slabs per selected device (empty: one each): a device of several slabs is opened that many
+    // times, sharing one context, each with its own queues and labelled "slab k/n".
+    std::vector<std::size_t> slabs = {};
+    std::string label_suffix = {};  // set by open_devices() for each slab
 };
 
 class Device {
@@ -113,8 +119,12 @@ private:
 };
 
 // Opens the devices a selection spec names (see clsph/devices.hpp), one context and one in-order
-// queue each, in the stable order.
+// queue each, in the stable order (several slabs of a device: OpenOptions::slabs).
 std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const OpenOptions& options = {});
+
+// What the spec selects, as open_devices() would open it (OpenOptions::max_allocation applied),
+// without creating any context: what the memory plan is made for before anything is opened.
+std::vector<DeviceInfo> selected_infos(const std::string& spec, const OpenOptions& options = {});
 
 // What each opened device is (for the memory plan, clsph/memory_plan.hpp).
 inline std::vector<DeviceInfo> infos(const std::vector<std::unique_ptr<Device>>& devices) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <utility>
 #include <iterator>
 #include <map>
 #include <utility>
@@ -145,17 +146,41 @@ bool DeviceMemoryPlan::fits() const {
            (device.max_allocation == 0 || largest().bytes <= device.max_allocation);
 }
 
+namespace {
+// The entries [first, end) of the device that entry d is a slab of.
+std::pair<std::size_t, std::size_t> slabs_of(const MemoryPlan& plan, std::size_t d) {
+    const std::size_t first = d - plan.devices.at(d).slab;
+    return {first, std::min(plan.devices.size(), first + plan.devices[d].slabs)};
+}
+}  // namespace
+
+std::size_t MemoryPlan::device_bytes(std::size_t d) const {
+    const auto [first, end] = slabs_of(*this, d);
+    std::size_t b = 0;
+    for (std::size_t k = first; k < end; ++k) b += devices[k].total_bytes();
+    return b;
+}
+
+std::vector<std::size_t> MemoryPlan::slabs_per_device() const {
+    std::vector<std::size_t> out;
+    for (const auto& x : devices)
+        if (x.slab == 0) out.push_back(x.slabs);
+    return out;
+}
+
 std::size_t MemoryPlan::largest_particles(std::size_t d) const {
-    const auto& x = devices.at(d);
-    const double per = x.scaling_bytes() ? static_cast<double>(x.scaling_bytes()) / static_cast<double>(particles) : 0.0;
-    const double room = static_cast<double>(x.device.global_memory) - static_cast<double>(x.fixed_bytes());
+    // The device's slabs together: their scaling bytes grow with the scene, their fixed ones do not.
+    // A buffer that would outgrow one allocation means one more slab (a few fixed bytes), not a limit.
+    const auto [first, end] = slabs_of(*this, d);
+    std::size_t scaling = 0, fixed = 0;
+    for (std::size_t k = first; k < end; ++k) {
+        scaling += devices[k].scaling_bytes();
+        fixed += devices[k].fixed_bytes();
+    }
+    const double per = scaling ? static_cast<double>(scaling) / static_cast<double>(particles) : 0.0;
+    const double room = static_cast<double>(devices[d].device.global_memory) - static_cast<double>(fixed);
     if (per <= 0 || room <= 0) return 0;
-    double n = room / per;
-    // The largest single buffer grows with the scene too: CL_DEVICE_MAX_MEM_ALLOC_SIZE bounds it.
-    const auto& big = x.largest();
-    if (big.scales && big.bytes > 0 && x.device.max_allocation)
-        n = std::min(n, static_cast<double>(x.device.max_allocation) / static_cast<double>(big.bytes) * static_cast<double>(particles));
-    return static_cast<std::size_t>(n);
+    return static_cast<std::size_t>(room / per);
 }
 
 std::size_t MemoryPlan::largest_particles() const {
@@ -170,8 +195,11 @@ double MemoryPlan::dp_for(std::size_t n) const {
 }
 
 bool MemoryPlan::fits() const {
-    for (const auto& d : devices)
-        if (!d.fits()) return false;
+    for (std::size_t d = 0; d < devices.size(); ++d) {
+        const auto& x = devices[d];
+        if (!x.fits()) return false;
+        if (x.slab == 0 && x.device.global_memory && device_bytes(d) > x.device.global_memory) return false;
+    }
     return true;
 }
 
@@ -304,8 +332,63 @@ MemoryPlan plan_memory(const Scene& scene, const std::vector<DeviceInfo>& device
 
 namespace detail {
 
+namespace {
+MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
+                      const Options& options);
+constexpr std::size_t most_slabs = 64;  // per device
+}  // namespace
+
 MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
                        const Options& options) {
+    // One slab per device, then one more at a time on the devices where a slab's largest buffer
+    // exceeds the largest allocation (the cuts move with the slab count, so plan again). Slabs
+    // hold their neighbours' halo columns too, so on a narrow domain more slabs stop helping: a
+    // device whose worst slab has not shrunk in three tries keeps its count (and does not fit).
+    std::vector<std::size_t> slabs(devices.size(), 1), stalled(devices.size(), 0);
+    std::vector<double> best(devices.size(), 0.0);
+    for (;;) {
+        std::vector<DeviceInfo> expanded;
+        for (std::size_t i = 0; i < devices.size(); ++i) expanded.insert(expanded.end(), slabs[i], devices[i]);
+        MemoryPlan plan = plan_slabs(scene, census, expanded, options);
+        bool more = false;
+        std::size_t at = 0;
+        for (std::size_t i = 0; i < devices.size(); ++i) {
+            double worst = 0;  // the largest buffer of the device's slabs over one allocation
+            for (std::size_t k = 0; k < slabs[i]; ++k) {
+                auto& x = plan.devices.at(at + k);
+                x.slab = k;
+                x.slabs = slabs[i];
+                if (devices[i].max_allocation)
+                    worst = std::max(worst, static_cast<double>(x.largest().bytes) / static_cast<double>(devices[i].max_allocation));
+            }
+            at += slabs[i];
+            if (worst <= 1.0) continue;
+            if (slabs[i] == 1 || worst < best[i]) {
+                best[i] = worst;
+                stalled[i] = 0;
+            } else {
+                ++stalled[i];
+            }
+            if (stalled[i] < 3 && slabs[i] < most_slabs) {
+                ++slabs[i];
+                more = true;
+            }
+        }
+        if (more) continue;
+        for (std::size_t i = 0; i < devices.size(); ++i)
+            if (slabs[i] > 1)
+                plan.notes.push_back("device #" + std::to_string(devices[i].index) + " " + devices[i].name + " runs as " +
+                                     std::to_string(slabs[i]) +
+                                     " slabs: one slab's buffers would exceed its CL_DEVICE_MAX_MEM_ALLOC_SIZE (" +
+                                     std::to_string(devices[i].max_allocation) + " bytes)");
+        return plan;
+    }
+}
+
+namespace {
+
+MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
+                      const Options& options) {
     MemoryPlan plan;
     plan.particles = census.particles;
     plan.dp = scene.physics.dp;
@@ -565,6 +648,7 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
     return plan;
 }
 
+}  // namespace
 }  // namespace detail
 
 void check_fits(const MemoryPlan& plan) {
@@ -574,12 +658,16 @@ void check_fits(const MemoryPlan& plan) {
                   static_cast<double>(plan.particles));
     std::string msg = text;
     const double gib = 1024.0 * 1024.0 * 1024.0;
-    for (const auto& d : plan.devices) {
-        std::snprintf(text, sizeof text, "; %.3g GiB on device '%s' which has %.3g GiB", static_cast<double>(d.total_bytes()) / gib,
-                      d.device.name.c_str(), static_cast<double>(d.device.global_memory) / gib);
+    for (std::size_t i = 0; i < plan.devices.size(); ++i) {
+        const auto& d = plan.devices[i];
+        if (d.slab != 0) continue;
+        std::snprintf(text, sizeof text, "; %.3g GiB on device '%s' which has %.3g GiB",
+                      static_cast<double>(plan.device_bytes(i)) / gib, d.device.name.c_str(),
+                      static_cast<double>(d.device.global_memory) / gib);
         msg += text;
+        if (d.slabs > 1) msg += " (as " + std::to_string(d.slabs) + " slabs)";
         const auto& big = d.largest();
-        if (big.bytes > d.device.max_allocation) {
+        if (d.device.max_allocation && big.bytes > d.device.max_allocation) {
             std::snprintf(text, sizeof text, " (its largest buffer, '%s', needs %.3g GiB but one allocation may be at most %.3g GiB)",
                           big.name.c_str(), static_cast<double>(big.bytes) / gib,
                           static_cast<double>(d.device.max_allocation) / gib);
