@@ -3,6 +3,8 @@
 
 #include "cl/errors.hpp"
 #include "device/memory_census.hpp"
+#include "multi/rank_devices.hpp"
+#include "multi/ranks.hpp"
 #include "render/scene_image.hpp"
 #include "surface/extract.hpp"
 #include "clsph/memory_plan.hpp"
@@ -23,6 +25,10 @@
 namespace clsph {
 
 void Simulation::Impl::fail(const multi::StepOutcome& k) {
+    if (!driver->here(k.bad_slab))
+        throw SimulationError("step " + std::to_string(info.step + 1) + ": a particle of slab " + std::to_string(k.bad_slab) +
+                              ", on another MPI rank, went bad (that rank's message names it). The run stopped; the last "
+                              "good state is at t = " + std::to_string(last_good_time) + " s.");
     auto& slab = driver->slabs()[k.bad_slab];
     auto& d = *slab.device;
     const auto index = static_cast<std::size_t>(k.kick.bad_index);
@@ -31,6 +37,11 @@ void Simulation::Impl::fail(const multi::StepOutcome& k) {
     d.read(slab.store->id, &id, 1, index);
     d.read(slab.store->velrho, vr, 4, 4 * index);
     fail_with(id, vr, dt_next, driver->slabs().size() > 1 ? d.label() : std::string());
+}
+
+void Simulation::Impl::one_process(const char* what) const {
+    if (driver->across_ranks())
+        throw Error(std::string(what) + " across MPI ranks are not supported yet (issue 21); run in one process for them");
 }
 
 void Simulation::Impl::fail_with(std::uint32_t id, const float vr[4], double dt, const std::string& device) {
@@ -110,14 +121,25 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene
     auto& m = *this;
     cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
     if (options.seams) open.max_allocation = options.seams->max_allocation;
-    const std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
-    // The memory plan before any context or buffer: a scene that cannot fit stops here, and a device
-    // whose slab would hold a buffer above its largest allocation is opened as several slabs.
-    const auto infos = cl_rt::selected_infos(spec, open);
-    const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
-                                    : plan_memory(scene, p, infos, options);
-    check_fits(plan);
-    open.slabs = plan.slabs_per_device();
+    std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
+    if (options.ranks) {
+        // This rank's devices (dealt from the node's, or its own clause of a per-rank spec). The
+        // memory plan is one process's: across ranks a device that runs short says so when it
+        // allocates.
+        if (c) throw Error("resuming a checkpoint across MPI ranks is not supported yet (issue 21): resume in one process");
+        std::string mine;
+        for (auto i : multi::rank_devices(list_devices(), spec, options.ranks->place()))
+            mine += (mine.empty() ? "" : ",") + std::to_string(i);
+        spec = mine;
+    } else {
+        // The memory plan before any context or buffer: a scene that cannot fit stops here, and a
+        // device whose slab would hold a buffer above its largest allocation is opened as several slabs.
+        const auto infos = cl_rt::selected_infos(spec, open);
+        const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
+                                        : plan_memory(scene, p, infos, options);
+        check_fits(plan);
+        open.slabs = plan.slabs_per_device();
+    }
     m.devices = cl_rt::open_devices(spec, open);
     std::vector<cl_rt::Device*> devs;
     for (auto& d : m.devices) {
@@ -139,6 +161,7 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene
                                                   : Mode::callbacks;
     if (options.seams) dopt.seams = *options.seams;
     dopt.progress = options.on_setup;
+    dopt.ranks = options.ranks;
     if (c && c->counts.size() == m.devices.size()) dopt.cuts.assign(c->cuts.begin(), c->cuts.end());
     // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
     const auto k = cl_rt::guarded("setting up the devices", "", [&] {
@@ -220,6 +243,7 @@ void Simulation::Impl::restore(const Checkpoint& c) {
 
 Checkpoint Simulation::checkpoint() {
     auto& m = *impl_;
+    m.one_process("checkpoints");
     if (!m.in_flight.empty())
         throw Error("checkpoint(): steps run ahead of the host; save after run_until returns, not in the step callback");
     m.drop_left();
@@ -326,6 +350,7 @@ Particles Simulation::particles() {
 
 std::vector<Particles> Simulation::particles_by_device(const Selection& which) {
     auto& m = *impl_;
+    m.one_process("frames per device (pieces)");
     auto& slabs = m.driver->slabs();
     std::vector<Particles> pieces(slabs.size());
     auto download = [&](std::size_t k) {
@@ -391,16 +416,21 @@ std::vector<std::string> Simulation::device_names() const {
 
 std::vector<DeviceShare> Simulation::shares() const {
     std::vector<DeviceShare> out;
-    for (auto& s : impl_->driver->slabs())
+    auto& slabs = impl_->driver->slabs();
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (!impl_->driver->here(d)) continue;  // across ranks: this rank's
+        auto& s = slabs[d];
         out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds,
                        s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes,
                        s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
                        s.physics->interaction()});
+    }
     return out;
 }
 
 TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     auto& m = *impl_;
+    m.one_process("free surfaces");
     return cl_rt::guarded("extracting the free surface", "",
                           [&] { return surface::extract_surface(*m.driver, m.grid, m.scene, options); });
 }
@@ -409,6 +439,7 @@ Simulation::Impl::ProbePoints Simulation::Impl::probe_points() const { return pr
 
 Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
     auto& m = *impl_;
+    m.one_process("images");
     return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(*m.driver, m.grid, m.scene, surface, camera); });
 }
 
@@ -454,7 +485,10 @@ std::vector<KernelTime> Simulation::host_phases() const {
 
 std::vector<MemoryReport> Simulation::memory() const {
     std::vector<MemoryReport> out;
-    for (auto& s : impl_->driver->slabs()) {
+    auto& slabs = impl_->driver->slabs();
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (!impl_->driver->here(d)) continue;  // across ranks: this rank's
+        auto& s = slabs[d];
         MemoryReport r;
         r.device = s.device->label();
         r.particles = s.store->ranges.owned;

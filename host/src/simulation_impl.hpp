@@ -64,6 +64,7 @@ struct Simulation::Impl {
     void init(const Particles& p, const Checkpoint* c, const scene::LatticePlan* plan = nullptr);
     void restore(const Checkpoint& c);
 
+    void one_process(const char* what) const;  // throws across MPI ranks: what is not supported there yet
     // The synchronous path's failure: the particle read from the device now.
     [[noreturn]] void fail(const multi::StepOutcome& k);
     // Both paths: `id` the id word, `vr` velocity and density of the particle that failed in the

@@ -4,6 +4,7 @@
 #include "clsph/mesh.hpp"
 #include "clsph/render.hpp"
 #include "clsph/particles.hpp"
+#include "clsph/ranks.hpp"
 #include "clsph/scene.hpp"
 
 #include <cstdint>
@@ -66,6 +67,11 @@ struct Options {
     bool setup_on_device = true;
     // A line per stage of the set-up (planning, timing the devices, generating, sorting); empty: quiet.
     std::function<void(const std::string&)> on_setup;
+    // Several processes (clsph/ranks.hpp, `mpirun`): this rank's part of one run. `devices` then
+    // names the node's devices, dealt to the node's ranks, or each rank's (the per-rank form,
+    // docs/mpi.md). particles() and the step's figures: this rank's particles; the reductions
+    // (time step, energies, counts, probes) over every rank. Null: one process.
+    std::shared_ptr<Ranks> ranks;
     // Tests and benchmarks only: deliberate misbehaviour (clsph/testing.hpp); null: none.
     std::shared_ptr<const testing::Seams> seams;
 };

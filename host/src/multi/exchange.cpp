@@ -5,13 +5,14 @@
 namespace clsph::multi {
 
 Exchange::Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
-                   cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide)
+                   cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide, RankMap ranks)
     : partition_(partition),
       slabs_(slabs),
       for_each_device_(std::move(for_each_device)),
       wait_(wait),
       phases_(phases),
-      always_wide_(always_wide) {}
+      always_wide_(always_wide),
+      ranks_(std::move(ranks)) {}
 
 Link& Exchange::link(std::size_t from, std::size_t to) {
     auto& l = links_[{from, to}];
@@ -22,7 +23,9 @@ Link& Exchange::link(std::size_t from, std::size_t to) {
 std::size_t Exchange::sort_uploaded() {
     const std::uint32_t invalid = partition_.grid().params().invalid_key;
     std::size_t removed = 0;
-    for (auto& s : slabs_) {
+    for (std::size_t d = 0; d < slabs_.size(); ++d) {
+        if (!ranks_.here(d)) continue;
+        Slab& s = slabs_[d];
         auto& ps = *s.store;
         const std::size_t n = ps.ranges.active();
         std::vector<std::uint32_t> thresholds;
@@ -37,6 +40,11 @@ std::size_t Exchange::sort_uploaded() {
         s.columns_end = s.end_col;
         if (s.empty() || !s.columns_known()) s.column_at.clear();
     }
+    if (ranks_.ranks) {
+        std::vector<std::uint64_t> n{removed};
+        ranks_.ranks->sum(n);
+        removed = static_cast<std::size_t>(n[0]);
+    }
     return removed;
 }
 
@@ -47,9 +55,16 @@ std::size_t Exchange::run(const PerDevice& then) {
     std::vector<char> presorted(D, 0);
     settle_and_gather(false, blocks, presorted);
     std::size_t removed = 0, jumped = 0;
-    for (const auto& s : slabs_) {
-        removed += s.cells->settled().left_domain;
-        jumped += s.cells->settled().jumped;
+    for (std::size_t d = 0; d < D; ++d) {
+        if (!ranks_.here(d)) continue;
+        removed += slabs_[d].cells->settled().left_domain;
+        jumped += slabs_[d].cells->settled().jumped;
+    }
+    if (ranks_.ranks) {
+        std::vector<std::uint64_t> n{removed, jumped};
+        ranks_.ranks->sum(n);
+        removed = static_cast<std::size_t>(n[0]);
+        jumped = static_cast<std::size_t>(n[1]);
     }
     if ((jumped > 0 || always_wide_) && D > 1) {  // the windows may miss a particle: send from whole slabs
         blocks.clear();
@@ -58,11 +73,21 @@ std::size_t Exchange::run(const PerDevice& then) {
     }
     std::vector<std::size_t> from_left(D, 0), from_right(D, 0);
     for (const auto& b : blocks) {
+        if (!ranks_.here(b.e)) continue;  // to another rank: below
         (b.d < b.e ? from_left : from_right)[b.e] += slabs_[b.d].cells->gather_count(b.index);
         link(b.d, b.e);  // made here, not on the device threads
     }
+    if (ranks_.ranks) {
+        send_remote_counts(blocks);
+        for (std::size_t e = 0; e < D; ++e) {
+            if (!ranks_.here(e)) continue;
+            for (auto n : remote_arrivals(e, true)) from_left[e] += n;
+            for (auto n : remote_arrivals(e, false)) from_right[e] += n;
+        }
+    }
     std::vector<Plan> plans(D);
-    for (std::size_t e = 0; e < D; ++e) plans[e] = plan(e, presorted[e], from_left[e], from_right[e]);
+    for (std::size_t e = 0; e < D; ++e)
+        if (ranks_.here(e)) plans[e] = plan(e, presorted[e], from_left[e], from_right[e]);
     send(blocks, plans);
     {
         PhaseTimer t(phases_, "exchange: receive, merge and tables");
@@ -162,8 +187,10 @@ void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& p
     for_each_device_([&](std::size_t d) {
         Slab& s = slabs_[d];
         for (const auto& b : blocks)
-            if (b.d == d) links_.at({d, b.e})->send(s.outbox, b.base, s.cells->gather_count(b.index), sent);
+            if (b.d == d && ranks_.here(b.e)) links_.at({d, b.e})->send(s.outbox, b.base, s.cells->gather_count(b.index), sent);
         s.device->transfer_queue().flush();
+        for (std::size_t e = 0; e < slabs_.size(); ++e)  // to other ranks: the particles once read
+            if (remote_pair(d, e)) remote_send_.at({d, e})->post();
         const Plan& p = plans[d];
         if (p.merge == Merge::edges || p.merge == Merge::kept_only) {
             s.store->reserve(p.from_left + p.held + p.from_right);  // keeps the sorted keys
@@ -184,14 +211,25 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     // own host thread: a write from memory pinned in another device's context may hold the thread
     // until it is done, on NVIDIA.)
     cl_rt::EventSet written;
+    // In sender order (each sender has at most one block for e), whichever rank it is on.
     std::size_t to = 0;
     for (bool left : {true, false})
-        for (const auto& b : blocks) {
-            if (b.e != e || (b.d < b.e) != left) continue;
-            Link& l = *links_.at({b.d, e});
-            l.receive(s.inbox, to, written);
-            to += l.count();
-            s.received_bytes += l.count() * device::ParticleArrays::kBytesPerParticle;
+        for (std::size_t d = 0; d < slabs_.size(); ++d) {
+            if (d == e || (d < e) != left) continue;
+            std::size_t n = 0;
+            if (remote_pair(d, e)) {
+                auto& l = *remote_receive_.at({d, e});
+                l.receive(s.inbox, to, written);
+                n = l.count();
+            } else {
+                const auto b = std::find_if(blocks.begin(), blocks.end(), [&](const Block& x) { return x.d == d && x.e == e; });
+                if (b == blocks.end()) continue;
+                Link& l = *links_.at({d, e});
+                l.receive(s.inbox, to, written);
+                n = l.count();
+            }
+            to += n;
+            s.received_bytes += n * device::ParticleArrays::kBytesPerParticle;
         }
     dev.barrier(written);
     const device::KeyRange keys = partition_.keys_of(need_[e]);
@@ -234,6 +272,37 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     }
     s.cells->finish_tables(ps, ps.ranges.active());
     then(e);
+}
+
+void Exchange::send_remote_counts(const std::vector<Block>& blocks) {
+    // Every pair of a slab here and a slab of another rank that needs columns: a message each step
+    // (count 0 included), so the receiver knows what to wait for without asking.
+    const std::size_t D = slabs_.size();
+    for (std::size_t d = 0; d < D; ++d) {
+        if (!ranks_.here(d)) continue;
+        for (std::size_t e = 0; e < D; ++e) {
+            if (!remote_pair(d, e)) continue;
+            auto& l = remote_send_[{d, e}];
+            if (!l) l = ranks_.ranks->sender(*slabs_[d].device, ranks_.slab_rank[e], static_cast<int>(d * D + e));
+            const auto b = std::find_if(blocks.begin(), blocks.end(), [&](const Block& x) { return x.d == d && x.e == e; });
+            if (b == blocks.end())
+                l->send(slabs_[d].outbox, 0, 0);
+            else
+                l->send(slabs_[d].outbox, b->base, slabs_[d].cells->gather_count(b->index));
+        }
+    }
+}
+
+std::vector<std::size_t> Exchange::remote_arrivals(std::size_t e, bool left) {
+    const std::size_t D = slabs_.size();
+    std::vector<std::size_t> out;
+    for (std::size_t d = 0; d < D; ++d) {
+        if ((d < e) != left || !remote_pair(d, e)) continue;
+        auto& l = remote_receive_[{d, e}];
+        if (!l) l = ranks_.ranks->receiver(*slabs_[e].device, ranks_.slab_rank[d], static_cast<int>(d * D + e));
+        out.push_back(l->wait_count());
+    }
+    return out;
 }
 
 void Exchange::enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const {

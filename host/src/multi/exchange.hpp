@@ -21,6 +21,7 @@
 #pragma once
 #include "cl/async.hpp"
 #include "multi/link.hpp"
+#include "multi/ranks.hpp"
 #include "multi/partition.hpp"
 #include "multi/phase_timer.hpp"
 #include "multi/slab.hpp"
@@ -37,10 +38,23 @@ using PerDevice = std::function<void(std::size_t)>;
 // Runs work(d) for every device, each on its own host thread where that helps.
 using ForEachDevice = std::function<void(const PerDevice&)>;
 
+// Across ranks (clsph/ranks.hpp) every rank holds every slab's columns but only its own slabs'
+// devices and particles (Slab::device is null for the others'): each rank runs the exchange for its
+// slabs, sends a count (0 included) to every slab of another rank that needs columns, and takes one
+// from each such slab, so receivers learn what comes before they plan; the jump check and the
+// removed count are summed over the ranks. Arrivals are taken in sender order as in one process,
+// so the result does not depend on where the slabs run.
+struct RankMap {
+    Ranks* ranks = nullptr;     // null: one process
+    std::vector<int> slab_rank;  // per slab (empty: all here)
+    int rank = 0;
+    bool here(std::size_t d) const { return slab_rank.empty() || slab_rank[d] == rank; }
+};
+
 class Exchange {
 public:
     Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
-             cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide = false);
+             cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide = false, RankMap ranks = {});
     // Once, after the first upload: each device sorts what it was given and finds its column
     // positions. Returns the particles removed (outside the domain).
     std::size_t sort_uploaded();
@@ -61,6 +75,12 @@ private:
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
     static void remember_columns(Slab& s);
     Link& link(std::size_t from, std::size_t to);
+    // Counts to and from slabs of other ranks (after the gathers; before the plans).
+    void send_remote_counts(const std::vector<Block>& blocks);
+    std::vector<std::size_t> remote_arrivals(std::size_t e, bool left);
+    bool remote_pair(std::size_t d, std::size_t e) const {
+        return d != e && !need_[e].empty() && ranks_.here(d) != ranks_.here(e);
+    }
 
     const Partition& partition_;
     std::vector<Slab>& slabs_;
@@ -70,6 +90,9 @@ private:
     bool always_wide_;  // tests: the jump path every step
     std::vector<Need> need_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
+    RankMap ranks_;
+    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteSendLink>> remote_send_;
+    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteReceiveLink>> remote_receive_;
 };
 
 }  // namespace clsph::multi

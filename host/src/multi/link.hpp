@@ -23,6 +23,26 @@ public:
     virtual std::size_t count() const = 0;
 };
 
+// The halves of a link between slabs on two ranks (clsph/ranks.hpp; MPI: mpi_link.hpp), as the
+// exchange uses them. The sender sends every step, n = 0 included, so the receiver always learns
+// its count: send() posts the count and enqueues the device read; post() sends the particles once
+// read. The receiver's wait_count() blocks until the count has come; receive() until the particles
+// have, then enqueues their write into `dst` at `to`.
+class RemoteSendLink {
+public:
+    virtual ~RemoteSendLink() = default;
+    virtual void send(const device::ParticleArrays& src, std::size_t first, std::size_t n) = 0;
+    virtual void post() = 0;
+};
+
+class RemoteReceiveLink {
+public:
+    virtual ~RemoteReceiveLink() = default;
+    virtual std::size_t wait_count() = 0;
+    virtual void receive(device::ParticleArrays& dst, std::size_t to, cl_rt::EventSet& received) = 0;
+    virtual std::size_t count() const = 0;
+};
+
 // Staging through pinned host memory of the sender's context (it works across contexts and
 // vendors; the receiver's side measured the same: BENCHMARKS.md, second pass).
 class StagedLink final : public Link {

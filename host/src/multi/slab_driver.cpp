@@ -25,7 +25,20 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
 void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* host,
                         const scene::LatticePlan* plan) {
     const device::Grid& grid = partition_.grid();
-    const std::size_t D = devices.size();
+    // Across ranks: the slabs of rank 0 first, then rank 1's, ...; only this rank's have devices.
+    std::size_t first_here = 0;
+    std::size_t D = devices.size();
+    if (options_.ranks) {
+        ranks_.ranks = options_.ranks.get();
+        ranks_.rank = options_.ranks->rank();
+        const auto counts = options_.ranks->gather_all({static_cast<std::uint64_t>(devices.size())});
+        D = 0;
+        for (int r = 0; r < options_.ranks->size(); ++r) {
+            if (r < ranks_.rank) first_here += counts[static_cast<std::size_t>(r)];
+            D += counts[static_cast<std::size_t>(r)];
+            ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
+        }
+    }
     const std::size_t total = host ? host->size() : static_cast<std::size_t>(plan->count());
     auto say = [&](const std::string& line) {
         if (options_.progress) options_.progress(line);
@@ -39,8 +52,9 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     Census census = host ? partition_.census(*host) : partition_.census(*plan);
     slabs_.resize(D);
     for (std::size_t d = 0; d < D; ++d) {
+        if (!here(d)) continue;
         Slab& s = slabs_[d];
-        s.device = devices[d];
+        s.device = devices[d - first_here];
         const std::size_t capacity = D == 1 ? total : static_cast<std::size_t>(
             static_cast<double>(total) / static_cast<double>(D) * (1.0 + options_.headroom));
         s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options_.headroom);
@@ -49,7 +63,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
-    if (slabs_[0].physics->mdbc()) {
+    if (scene.boundary_method == BoundaryMethod::mdbc) {
         // mDBC: every device holds each boundary particle's ghost-node offset, by id (they are
         // static: boundary particles never move). Boundaries come first in id order, so a plan's
         // boundary particles alone have the scene's ids.
@@ -63,7 +77,8 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             if (id >= by_id.size()) by_id.resize(id + 1, {0.0f, 0.0f, 0.0f});
             by_id[id] = offsets[i];
         }
-        for (auto& s : slabs_) s.physics->set_ghost_nodes(by_id);
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d)) slabs_[d].physics->set_ghost_nodes(by_id);
         // The next step's forces read boundary densities each owner computed: the owner must hold
         // the fluid around each of its particles' ghost nodes (Partition::restrict_cuts).
         if (D > 1) {
@@ -71,7 +86,9 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             census.profile.cut_allowed = partition_.cut_allowed();
         }
     }
-    if (D > 1 && bo.mode == balance::Mode::dynamic) {
+    // Across ranks the first cuts are the static ones (equal work); the measured times move them
+    // from the first step on. (The calibration times devices side by side in one process.)
+    if (D > 1 && bo.mode == balance::Mode::dynamic && !across_ranks()) {
         say("timing each device on samples of the scene");
         ColumnSampler sample;
         std::vector<std::vector<std::uint32_t>> by_column;
@@ -101,12 +118,19 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             balancer_->restore_cuts(first);
         }
     }
+    if (across_ranks()) {  // every rank computed them alike; rank 0's are the ones
+        std::vector<std::uint64_t> c(first.begin(), first.end());
+        options_.ranks->broadcast(c, 0);
+        first.assign(c.begin(), c.end());
+    }
     partition_.set_cuts(slabs_, first);
     if (host) {
         const auto parts = partition_.split(*host, census, slabs_);
-        for (std::size_t d = 0; d < D; ++d) slabs_[d].store->upload(parts[d]);
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d)) slabs_[d].store->upload(parts[d]);
     } else {
         for (std::size_t d = 0; d < D; ++d) {
+            if (!here(d)) continue;
             Slab& s = slabs_[d];
             if (s.empty()) {
                 s.store->ranges = device::ParticleRanges{0, 0, 0};
@@ -121,9 +145,13 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     }
     say("sorting the particles into cells");
     exchange_ = std::make_unique<Exchange>(partition_, slabs_, [this](const PerDevice& w) { for_each_device(w); },
-                                           options_.wait, phases_, options_.seams.wide_exchange);
+                                           options_.wait, phases_, options_.seams.wide_exchange, ranks_);
     removed_at_upload_ = exchange_->sort_uploaded();
-    if (!options_.balance_log.empty()) {
+    figures_.resize(D);
+    for (std::size_t d = 0; d < D; ++d)
+        if (here(d)) figures_[d].global_memory = static_cast<std::size_t>(slabs_[d].device->info().global_memory);
+    if (across_ranks()) gather_figures();
+    if (!options_.balance_log.empty() && ranks_.rank == 0) {
         log_file_ = std::make_unique<std::ofstream>(options_.balance_log);
         if (!*log_file_) throw Error("--balance-log: cannot write " + options_.balance_log);
         log_ = std::make_unique<balance::BalanceLog>(*log_file_, D);
@@ -195,18 +223,32 @@ void SlabDriver::correct(std::size_t d, double dt) {
 
 void SlabDriver::rebalance() {
     PhaseTimer t(phases_, "balance");
-    const auto profile = partition_.column_profile(slabs_);
+    auto profile = partition_.column_profile(slabs_);
+    if (across_ranks()) {  // each column is counted by the one slab that owns it: sum over ranks
+        std::vector<double> work = profile.work;
+        std::vector<std::uint64_t> particles(profile.particles.begin(), profile.particles.end());
+        options_.ranks->sum(work);
+        options_.ranks->sum(particles);
+        profile.work = work;
+        profile.particles.assign(particles.begin(), particles.end());
+    }
     std::vector<balance::DeviceSample> samples;
-    for (auto& s : slabs_) {
+    for (std::size_t d = 0; d < slabs_.size(); ++d) {
+        const Slab& s = slabs_[d];
         balance::DeviceSample x;
         x.compute_seconds = s.force_seconds;
         for (std::size_t c = s.first_col; c < s.end_col; ++c) x.work += profile.work[c];
-        x.particles = s.store->ranges.owned;
+        x.particles = here(d) ? s.store->ranges.owned : figures_[d].owned;
         // Capacity: what the device's memory holds at ~100 bytes per particle, leaving a quarter free.
-        x.capacity_particles = static_cast<std::size_t>(static_cast<double>(s.device->info().global_memory) * 0.75 / 100.0);
+        x.capacity_particles = static_cast<std::size_t>(static_cast<double>(figures_[d].global_memory) * 0.75 / 100.0);
         samples.push_back(x);
     }
-    const auto decision = balancer_->step(samples, profile);
+    auto decision = balancer_->step(samples, profile);
+    if (across_ranks()) {  // the same inputs on every rank; rank 0's cuts are the ones
+        std::vector<std::uint64_t> c(decision.cuts.begin(), decision.cuts.end());
+        options_.ranks->broadcast(c, 0);
+        decision.cuts.assign(c.begin(), c.end());
+    }
     if (log_) log_->write(steps_, samples, decision);
     partition_.set_cuts(slabs_, decision.cuts);
 }
@@ -237,7 +279,7 @@ StepOutcome SlabDriver::reductions(cl_rt::EventSet& kicked) {
     }
     StepOutcome out;
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
-        if (slabs_[d].store->ranges.owned == 0) continue;
+        if (!here(d) || slabs_[d].store->ranges.owned == 0) continue;
         const auto k = slabs_[d].physics->kick_result();
         out.kick.max_speed2 = std::max(out.kick.max_speed2, k.max_speed2);
         out.kick.max_accel2 = std::max(out.kick.max_accel2, k.max_accel2);
@@ -248,17 +290,75 @@ StepOutcome SlabDriver::reductions(cl_rt::EventSet& kicked) {
             out.bad_slab = d;
         }
     }
+    if (across_ranks()) {
+        // Maxima, sums, and the first slab with a bad value (its index there) over every rank.
+        std::vector<double> m{out.kick.max_speed2, out.kick.max_accel2};
+        options_.ranks->max(m);
+        std::vector<double> sums{out.kick.kinetic_energy};
+        options_.ranks->sum(sums);
+        const std::size_t D = slabs_.size();
+        std::vector<std::uint64_t> counts(1 + 2 * D, 0);
+        counts[0] = static_cast<std::uint64_t>(out.kick.fluid);
+        if (out.kick.bad_index >= 0) {
+            counts[1 + 2 * out.bad_slab] = 1;
+            counts[2 + 2 * out.bad_slab] = static_cast<std::uint64_t>(out.kick.bad_index);
+        }
+        options_.ranks->sum(counts);
+        out.kick.max_speed2 = m[0];
+        out.kick.max_accel2 = m[1];
+        out.kick.kinetic_energy = sums[0];
+        out.kick.fluid = static_cast<decltype(out.kick.fluid)>(counts[0]);
+        out.kick.bad_index = -1;
+        for (std::size_t d = 0; d < D; ++d)
+            if (counts[1 + 2 * d]) {
+                out.kick.bad_index = static_cast<decltype(out.kick.bad_index)>(counts[2 + 2 * d]);
+                out.bad_slab = d;
+                break;
+            }
+    }
     return out;
+}
+
+void SlabDriver::gather_figures() {
+    const std::size_t D = slabs_.size();
+    std::vector<double> seconds(D, 0.0);
+    std::vector<std::uint64_t> counts(2 * D, 0);
+    for (std::size_t d = 0; d < D; ++d) {
+        if (!here(d)) continue;
+        seconds[d] = slabs_[d].force_seconds;
+        counts[2 * d] = slabs_[d].store->ranges.owned;
+        counts[2 * d + 1] = figures_[d].global_memory;
+    }
+    options_.ranks->sum(seconds);
+    options_.ranks->sum(counts);
+    for (std::size_t d = 0; d < D; ++d) {
+        figures_[d] = {seconds[d], static_cast<std::size_t>(counts[2 * d]), static_cast<std::size_t>(counts[2 * d + 1])};
+        slabs_[d].force_seconds = seconds[d];
+    }
 }
 
 void SlabDriver::read_force_times() {
     if (slabs_.size() == 1) return;
-    for (auto& s : slabs_) s.force_seconds = s.force_timer->seconds();
+    for (std::size_t d = 0; d < slabs_.size(); ++d)
+        if (here(d)) slabs_[d].force_seconds = slabs_[d].force_timer->seconds();
+    if (across_ranks()) gather_figures();
 }
 
 void SlabDriver::for_each_device(const PerDevice& work) {
     // One thread suffices where at most one device has anything to do (a GPU next to an idle CPU):
     // handing work to the other threads would only add their wake-ups to every phase.
+    if (across_ranks()) {  // this rank's slabs, each on its own thread where it has several
+        std::vector<std::size_t> mine;
+        for (std::size_t d = 0; d < slabs_.size(); ++d)
+            if (here(d)) mine.push_back(d);
+        if (mine.size() == 1 || options_.seams.serialize_devices) {
+            for (auto d : mine) work(d);
+            return;
+        }
+        if (!threads_) threads_ = std::make_unique<DeviceThreads>(mine.size());
+        threads_->run([&](std::size_t k) { work(mine[k]); });
+        return;
+    }
     std::size_t busy = 0;
     for (const auto& s : slabs_) busy += s.busy();
     if (slabs_.size() == 1 || options_.seams.serialize_devices || busy <= 1) {
@@ -270,15 +370,17 @@ void SlabDriver::for_each_device(const PerDevice& work) {
 }
 
 std::size_t SlabDriver::owned() const {
+    // Across ranks: every slab's, as gathered after the last step (no collective here).
     std::size_t n = 0;
-    for (const auto& s : slabs_) n += s.store->ranges.owned;
+    for (std::size_t d = 0; d < slabs_.size(); ++d) n += here(d) ? slabs_[d].store->ranges.owned : figures_[d].owned;
     return n;
 }
 
 Particles SlabDriver::download() {
     Particles all;
-    for (auto& s : slabs_) {
-        const Particles p = s.store->download();
+    for (std::size_t d = 0; d < slabs_.size(); ++d) {
+        if (!here(d)) continue;  // across ranks: this rank's particles
+        const Particles p = slabs_[d].store->download();
         for (std::size_t i = 0; i < p.size(); ++i)
             all.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
     }
@@ -300,11 +402,17 @@ std::vector<std::array<float, 2>> SlabDriver::probe(const std::vector<std::array
         which[partition_.owner_of(key, slabs_)].push_back(i);
     }
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
-        if (which[d].empty()) continue;
+        if (which[d].empty() || !here(d)) continue;
         std::vector<std::array<double, 3>> pts;
         for (auto i : which[d]) pts.push_back(points[i]);
         const auto r = slabs_[d].physics->probe(*slabs_[d].store, *slabs_[d].cells, pts);
         for (std::size_t k = 0; k < pts.size(); ++k) out[which[d][k]] = r[k];
+    }
+    if (across_ranks()) {  // each point was evaluated on one rank: the others' are zeros
+        std::vector<double> v(2 * out.size());
+        for (std::size_t i = 0; i < out.size(); ++i) v[2 * i] = out[i][0], v[2 * i + 1] = out[i][1];
+        options_.ranks->sum(v);
+        for (std::size_t i = 0; i < out.size(); ++i) out[i] = {static_cast<float>(v[2 * i]), static_cast<float>(v[2 * i + 1])};
     }
     return out;
 }

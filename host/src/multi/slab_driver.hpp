@@ -42,6 +42,9 @@ struct DriverOptions {
     std::vector<std::size_t> cuts;
     // A line per stage of a long set-up (generating, calibrating); empty: quiet.
     std::function<void(const std::string&)> progress;
+    // Several processes (clsph/ranks.hpp): the devices given are this rank's, its slabs follow the
+    // slabs of the ranks before it. Null: one process.
+    std::shared_ptr<Ranks> ranks;
 };
 
 struct StepOutcome {
@@ -82,8 +85,15 @@ public:
     std::size_t cell_capacity() const { return slabs_[0].cells->cell_capacity(); }
     std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
 
-    const SphParams& params() const { return slabs_.front().physics->params(); }
+    const SphParams& params() const {  // the same on every slab: this rank's first
+        for (std::size_t d = 0; d < slabs_.size(); ++d)
+            if (here(d)) return slabs_[d].physics->params();
+        return slabs_.front().physics->params();
+    }
+    // Every slab of the run; across ranks only this rank's have a device (here(d)).
     std::vector<Slab>& slabs() { return slabs_; }
+    bool here(std::size_t d) const { return ranks_.here(d); }
+    bool across_ranks() const { return ranks_.ranks != nullptr; }
     std::vector<std::size_t> cuts() const { return Partition::cuts(slabs_); }
     std::size_t owned() const;
     std::size_t columns() const { return partition_.columns(); }
@@ -112,6 +122,11 @@ private:
     std::unique_ptr<balance::BalanceLog> log_;
     std::unique_ptr<DeviceThreads> threads_;  // several devices: started at the first use
     std::unique_ptr<Exchange> exchange_;
+    RankMap ranks_;
+    // Across ranks, every slab's figures the balancer reads (gathered after each step).
+    struct SlabFigures { double force_seconds = 0; std::size_t owned = 0, global_memory = 0; };
+    std::vector<SlabFigures> figures_;
+    void gather_figures();
     PhaseTotals phases_;
     std::uint64_t steps_ = 0;
     bool symplectic_ = false;

@@ -1,0 +1,84 @@
+// Ranks over MPI (clsph/ranks.hpp, multi/ranks.hpp): the collectives on clsph's own communicator,
+// the links' halves as MpiSendLink / MpiReceiveLink.
+#include "clsph/error.hpp"
+#include "clsph/ranks.hpp"
+#include "mpi/environment.hpp"
+#include "multi/mpi_link.hpp"
+#include "multi/ranks.hpp"
+
+namespace clsph {
+namespace {
+
+class MpiSend final : public multi::RemoteSendLink {
+public:
+    MpiSend(cl_rt::Device& d, const multi::MpiChannel& c) : link_(d, c) {}
+    void send(const device::ParticleArrays& src, std::size_t first, std::size_t n) override { link_.send(src, first, n); }
+    void post() override { link_.post(); }
+
+private:
+    multi::MpiSendLink link_;
+};
+
+class MpiReceive final : public multi::RemoteReceiveLink {
+public:
+    MpiReceive(cl_rt::Device& d, const multi::MpiChannel& c) : link_(d, c) { link_.post(); }
+    std::size_t wait_count() override { return link_.wait_count(); }
+    void receive(device::ParticleArrays& dst, std::size_t to, cl_rt::EventSet& received) override {
+        link_.receive(dst, to, received);
+        link_.post();  // the next step's count may come early
+    }
+    std::size_t count() const override { return link_.count(); }
+
+private:
+    multi::MpiReceiveLink link_;
+};
+
+class MpiRanks final : public Ranks {
+public:
+    MpiRanks(int& argc, char**& argv) : env_(argc, argv) {}
+    const multi::RankPlace& place() const override { return env_.place(); }
+
+    void sum(std::vector<double>& v) override { reduce(v.data(), v.size(), MPI_DOUBLE, MPI_SUM, "sum"); }
+    void sum(std::vector<std::uint64_t>& v) override { reduce(v.data(), v.size(), MPI_UINT64_T, MPI_SUM, "sum"); }
+    void max(std::vector<double>& v) override { reduce(v.data(), v.size(), MPI_DOUBLE, MPI_MAX, "maximum"); }
+
+    std::vector<std::uint64_t> gather_all(const std::vector<std::uint64_t>& mine) override {
+        std::vector<std::uint64_t> all(mine.size() * static_cast<std::size_t>(size()));
+        mpi::check(MPI_Allgather(mine.data(), count(mine.size()), MPI_UINT64_T, all.data(), count(mine.size()),
+                                 MPI_UINT64_T, env_.comm()),
+                   "MPI_Allgather", "gathering the slabs' figures");
+        return all;
+    }
+
+    void broadcast(std::vector<std::uint64_t>& v, int root) override {
+        mpi::check(MPI_Bcast(v.data(), count(v.size()), MPI_UINT64_T, root, env_.comm()), "MPI_Bcast",
+                   "broadcasting the cuts");
+    }
+
+    std::unique_ptr<multi::RemoteSendLink> sender(cl_rt::Device& device, int peer, int link) override {
+        return std::make_unique<MpiSend>(device, multi::MpiChannel{env_.comm(), peer, link});
+    }
+    std::unique_ptr<multi::RemoteReceiveLink> receiver(cl_rt::Device& device, int peer, int link) override {
+        return std::make_unique<MpiReceive>(device, multi::MpiChannel{env_.comm(), peer, link});
+    }
+
+    [[noreturn]] void abort(int code, const std::string& message) const override { mpi::abort(code, message); }
+
+private:
+    static int count(std::size_t n) {
+        if (n > 1u << 30) throw Error("MPI collective of " + std::to_string(n) + " elements: too many");
+        return static_cast<int>(n);
+    }
+    void reduce(void* data, std::size_t n, MPI_Datatype type, MPI_Op op, const char* what) {
+        if (n == 0) return;
+        mpi::check(MPI_Allreduce(MPI_IN_PLACE, data, count(n), type, op, env_.comm()), "MPI_Allreduce",
+                   std::string("the ") + what + " over the ranks");
+    }
+    mpi::Environment env_;
+};
+
+}  // namespace
+
+std::shared_ptr<Ranks> mpi_ranks(int& argc, char**& argv) { return std::make_shared<MpiRanks>(argc, argv); }
+
+}  // namespace clsph

@@ -1,0 +1,40 @@
+// What the slab driver needs of the ranks one run spans (clsph/ranks.hpp): where this process
+// stands, a few collectives over small host arrays, and the two halves of a link to a slab on
+// another rank. One implementation: MPI (host/src/mpi/mpi_ranks.cpp); one process needs none.
+#pragma once
+#include "cl/device.hpp"
+#include "multi/link.hpp"
+#include "multi/rank_devices.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace clsph {
+
+class Ranks {
+public:
+    virtual ~Ranks() = default;
+    virtual const multi::RankPlace& place() const = 0;
+    int rank() const { return place().rank; }
+    int size() const { return place().size; }
+
+    // Element-wise over every rank, in place (the same length on every rank).
+    virtual void sum(std::vector<double>& v) = 0;
+    virtual void sum(std::vector<std::uint64_t>& v) = 0;
+    virtual void max(std::vector<double>& v) = 0;
+    // Every rank's `mine` (the same length on every rank), in rank order.
+    virtual std::vector<std::uint64_t> gather_all(const std::vector<std::uint64_t>& mine) = 0;
+    // Rank `root`'s `v` on every rank (the same length on every rank).
+    virtual void broadcast(std::vector<std::uint64_t>& v, int root) = 0;
+
+    // The halves of link number `link` (the same number on both ranks) between a slab of this
+    // rank on `device` and a slab of rank `peer`.
+    virtual std::unique_ptr<multi::RemoteSendLink> sender(cl_rt::Device& device, int peer, int link) = 0;
+    virtual std::unique_ptr<multi::RemoteReceiveLink> receiver(cl_rt::Device& device, int peer, int link) = 0;
+
+    [[noreturn]] virtual void abort(int code, const std::string& message) const = 0;
+};
+
+}  // namespace clsph

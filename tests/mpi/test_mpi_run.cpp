@@ -1,0 +1,182 @@
+// One simulation across MPI ranks (issue 21), run by mpiexec with N = 2 and 3 ranks on one machine,
+// each rank driving one device (CTest gives POCL_DEVICES="pthread" N times: the node's devices dealt
+// one to each rank). The same scene then runs in one process on the N devices (rank 0, while the
+// others wait), and the two runs must leave the same particles, bit for bit: the exchange takes
+// arrivals in the same order wherever the slabs run, and the reductions (time step, counts) are exact.
+#define DOCTEST_CONFIG_IMPLEMENT
+#include <doctest/doctest.h>
+
+#include "clsph/error.hpp"
+#include "clsph/ranks.hpp"
+#include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
+#include "support/scenes.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <thread>
+#include <vector>
+
+using namespace clsph;
+
+namespace {
+
+std::shared_ptr<Ranks> ranks;
+
+// Particles by id: position, velocity and density words.
+using State = std::map<std::uint32_t, std::array<float, 7>>;
+
+// Waits for every rank without spinning a core (the devices' threads need both cores).
+void gentle_barrier() {
+    MPI_Request r;
+    MPI_Ibarrier(MPI_COMM_WORLD, &r);
+    for (int done = 0; !done;) {
+        MPI_Test(&r, &done, MPI_STATUS_IGNORE);
+        if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+}
+
+// Every rank's particles, on every rank; `duplicates` counts ids seen twice.
+State gather_state(Simulation& sim, std::size_t& duplicates) {
+    const Particles p = sim.particles();
+    std::vector<std::uint32_t> mine;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const float w[7] = {p.position[i][0], p.position[i][1], p.position[i][2], p.velocity[i][0],
+                            p.velocity[i][1], p.velocity[i][2], p.density[i]};
+        mine.push_back(p.id[i]);
+        for (float x : w) {
+            std::uint32_t u;
+            std::memcpy(&u, &x, 4);
+            mine.push_back(u);
+        }
+    }
+    int n = static_cast<int>(mine.size()), size = ranks_in(*ranks);
+    std::vector<int> counts(static_cast<std::size_t>(size)), at(static_cast<std::size_t>(size), 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    for (int r = 1; r < size; ++r) at[static_cast<std::size_t>(r)] = at[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
+    std::vector<std::uint32_t> all(static_cast<std::size_t>(at.back() + counts.back()));
+    MPI_Allgatherv(mine.data(), n, MPI_UINT32_T, all.data(), counts.data(), at.data(), MPI_UINT32_T, MPI_COMM_WORLD);
+    State s;
+    duplicates = 0;
+    for (std::size_t i = 0; i + 8 <= all.size(); i += 8) {
+        std::array<float, 7> w;
+        std::memcpy(w.data(), &all[i + 1], sizeof w);
+        duplicates += !s.emplace(all[i], w).second;
+    }
+    return s;
+}
+
+State local_state(Simulation& sim) {
+    const Particles p = sim.particles();
+    State s;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        s[p.id[i]] = {p.position[i][0], p.position[i][1], p.position[i][2], p.velocity[i][0],
+                      p.velocity[i][1], p.velocity[i][2], p.density[i]};
+    return s;
+}
+
+long differing(const State& a, const State& b) {
+    if (a.size() != b.size()) return -1;
+    long n = 0;
+    for (const auto& [id, w] : a) {
+        const auto it = b.find(id);
+        if (it == b.end()) return -1;
+        n += std::memcmp(w.data(), it->second.data(), sizeof w) != 0;
+    }
+    return n;
+}
+
+// Cuts that sweep back and forth a column or two every step (test_bitwise.cpp's), so particles
+// migrate across the rank boundary all the time.
+std::vector<std::size_t> sweeping(std::uint64_t step, std::size_t columns) {
+    const std::size_t D = static_cast<std::size_t>(ranks_in(*ranks));
+    std::vector<std::size_t> c(D + 1, 0);
+    c[D] = columns;
+    for (std::size_t d = 1; d < D; ++d) {
+        const std::size_t phase = (step * (d + 1) + d * columns / D) % (2 * columns);
+        c[d] = phase < columns ? phase : 2 * columns - phase;
+    }
+    std::sort(c.begin(), c.end());
+    return c;
+}
+
+// The scene on 2 ranks, then in one process on the node's 2 devices (rank 0), `steps` steps each.
+void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust) {
+    const int rank = rank_of(*ranks);
+    Options o;
+    adjust(o);
+    o.ranks = ranks;
+    Simulation across(scene, o);
+    for (int i = 0; i < steps; ++i) across.step();
+    // One slab here, the other on the other rank, and particles came across the rank boundary.
+    const auto shares = across.shares();
+    REQUIRE(shares.size() == 1);
+    CHECK(shares[0].received_bytes > 0);
+    CHECK(shares[0].particles < across.info().particles);
+    std::size_t duplicates = 0;
+    const State spread = gather_state(across, duplicates);
+    CHECK(duplicates == 0);
+    CHECK(spread.size() == across.info().particles);
+    std::vector<double> times{across.time()};
+    if (rank == 0) {
+        Options one;
+        adjust(one);
+        one.devices.clear();  // the node's devices, one per rank
+        for (int r = 0; r < ranks_in(*ranks); ++r) one.devices += (r ? "," : "") + std::to_string(r);
+        Simulation sim(scene, one);
+        for (int i = 0; i < steps; ++i) sim.step();
+        CHECK(sim.time() == across.time());  // dt from exact reductions
+        CHECK(sim.info().fluid == across.info().fluid);
+        const long d = differing(local_state(sim), spread);
+        INFO("particles differing in any bit (-1: the ids differ): " << d);
+        CHECK(d == 0);
+    }
+    gentle_barrier();
+}
+
+}  // namespace
+
+TEST_CASE("the dam break on N ranks is bitwise the same run in one process on N devices") {
+    Scene s = test::small_dam(0.146 / 8);
+    s.fluids.front().velocity = {4.0, 0.0, 0.0};  // across the cut between the ranks
+    compare(s, 100, [](Options& o) { o.balance = BalanceMode::dynamic; });
+}
+
+TEST_CASE("migration across the rank boundary: cuts forced to move every step, no id lost or duplicated") {
+    Scene s = test::small_dam(0.146 / 8);
+    s.fluids.front().velocity = {2.0, 0.0, 0.0};
+    compare(s, 300, [](Options& o) {
+        testing::Seams seams;
+        seams.cut_schedule = sweeping;
+        testing::set_seams(o, seams);
+    });
+}
+
+int main(int argc, char** argv) {
+    try {
+        ranks = mpi_ranks(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << e.what() << '\n';
+        return 1;
+    }
+    doctest::Context context(argc, argv);
+    int failed = 0;
+    try {
+        failed = context.run();
+    } catch (const std::exception& e) {
+        abort_all(*ranks, 1, e.what());
+    }
+    // A failure on one rank only: every rank must exit non-zero.
+    int any = failed ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    ranks.reset();
+    return any;
+}
