@@ -1,5 +1,7 @@
 #include "frame_writer.hpp"
 
+#include <clsph/error.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -73,6 +75,15 @@ void FrameWriter::submit(double time, Particles particles) {
 void FrameWriter::submit_pieces(double time, std::vector<Particles> pieces) {
     // Before queuing: a thinned frame waits in less memory.
     for (auto& p : pieces) p = filter_.apply(std::move(p));
+    if (format_.ranks) {  // synchronous and collective: see FrameFormat::ranks
+        if (error_) std::rethrow_exception(error_);
+        write_rank_piece(submitted_, time, concatenate(std::move(pieces)));
+        ++submitted_;
+        last_time_ = time;
+        std::lock_guard<std::mutex> lock(mutex_);
+        ++written_;
+        return;
+    }
     if (!format_.pieces && pieces.size() != 1) {
         Particles all = concatenate(std::move(pieces));
         pieces.clear();
@@ -184,6 +195,28 @@ void FrameWriter::write_pieces(const Frame& frame) {
     const std::string index = frame_name(frame.index, "pvtu");
     write_pvtu(dir_ + "/" + index, names, filter_.fields);
     pvd_.add(frame.time, index);
+}
+
+void FrameWriter::write_rank_piece(std::size_t index, double time, const Particles& mine) {
+    Ranks& ranks = *format_.ranks;
+    const int rank = rank_of(ranks);
+    std::string failure;
+    try {
+        write_vtu(dir_ + "/" + piece_name(index, static_cast<std::size_t>(rank)), mine, filter_.fields,
+                  VtuFormat{format_.compress, compress_threads(1)});
+    } catch (const std::exception& e) {
+        failure = e.what();
+    }
+    // Every rank learns whether any failed (a full disk on one rank ends the run on all of them).
+    const auto failures = gather_text(ranks, failure);
+    for (std::size_t r = 0; r < failures.size(); ++r)
+        if (!failures[r].empty()) throw Error("rank " + std::to_string(r) + ": " + failures[r]);
+    if (rank != 0) return;
+    std::vector<std::string> names;
+    for (int r = 0; r < ranks_in(ranks); ++r) names.push_back(piece_name(index, static_cast<std::size_t>(r)));
+    const std::string pvtu = frame_name(index, "pvtu");
+    write_pvtu(dir_ + "/" + pvtu, names, filter_.fields);
+    pvd_.add(time, pvtu);
 }
 
 }  // namespace clsph::app

@@ -7,6 +7,7 @@
 #pragma once
 #include <clsph/io.hpp>
 #include <clsph/particles.hpp>
+#include <clsph/ranks.hpp>
 
 #include "frame_filter.hpp"
 
@@ -26,6 +27,10 @@ struct FrameFormat {
     bool csv = false;       // also frame_NNNNN.csv (whole, also with pieces)
     bool compress = false;  // zlib-compressed VTU (vtkZLibDataCompressor)
     bool pieces = false;    // frame_NNNNN_pK.vtu per device and frame_NNNNN.pvtu (submit_pieces)
+    // Across MPI ranks (clsph/ranks.hpp): each rank writes its particles as piece K = its rank,
+    // on the calling thread; once every rank has, rank 0 writes the .pvtu and the collection.
+    // (submit() and finish() are then collective: every rank calls them in step.)
+    Ranks* ranks = nullptr;
 };
 
 class FrameWriter {
@@ -68,6 +73,7 @@ private:
     void loop();
     void write(const Frame& frame);
     void write_pieces(const Frame& frame);
+    void write_rank_piece(std::size_t index, double time, const Particles& mine);
     void stop();
 
     std::string dir_;

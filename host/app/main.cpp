@@ -13,11 +13,14 @@
 #include "surface_command.hpp"
 
 #include <CLI/CLI.hpp>
+#include <clsph/build_info.hpp>
 #include <clsph/devices.hpp>
 #include <clsph/error.hpp>
+#include <clsph/ranks.hpp>
 #include <clsph/version.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -173,9 +176,24 @@ clsph::app::RunArgs resume_args(const std::string& dir, const std::optional<doub
 
 }  // namespace
 
+// How many processes the launcher started this one among (mpirun/mpiexec of Open MPI and MPICH,
+// PMIx, Slurm's srun); 1 when run alone.
+int launched_ranks() {
+    for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "SLURM_NTASKS"}) {
+        const char* v = std::getenv(name);
+        if (v && *v) {
+            const int n = std::atoi(v);
+            if (n > 1) return n;
+        }
+    }
+    return 1;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"clsph: multi-device SPH fluid simulation on OpenCL"};
-    app.set_version_flag("--version", std::string("clsph ") + clsph::version());
+    app.set_version_flag("--version", std::string("clsph ") + clsph::version() +
+                                          (clsph::built_with_mpi() ? ", with MPI (" + clsph::mpi_library_version() + ")"
+                                                                   : ", without MPI"));
     app.require_subcommand(1);
 
     auto* devices = app.add_subcommand("devices", "list the OpenCL devices clsph can use, in selection order");
@@ -228,18 +246,24 @@ int main(int argc, char** argv) {
         if (*render) return clsph::app::surface_command(render_args);
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);
+            // Started by mpirun with several ranks: one run across them (docs/mpi.md).
+            if (launched_ranks() > 1) run_args.ranks = clsph::mpi_ranks(argc, argv);
             return clsph::app::run_command(run_args);
         }
     } catch (const clsph::DeviceError& e) {
+        // Across ranks the others would wait for this one forever: stop them all, with this message.
+        if (run_args.ranks) clsph::abort_all(*run_args.ranks, clsph::app::exit_device_failed, std::string("error: ") + e.what());
         // A device (or its driver) failed while the run was being set up: nothing ran, so there is
         // no output directory; the exit status is that of a device failure.
         std::cerr << "clsph: error: " << e.what() << '\n';
         return clsph::app::exit_device_failed;
     } catch (const clsph::Error& e) {
+        if (run_args.ranks) clsph::abort_all(*run_args.ranks, clsph::app::exit_error, std::string("error: ") + e.what());
         std::cerr << "clsph: error: " << e.what() << '\n';
         return clsph::app::exit_error;
     } catch (const std::exception& e) {
         // Not ours (std::bad_alloc, a filesystem error): still a message, never a crash.
+        if (run_args.ranks) clsph::abort_all(*run_args.ranks, clsph::app::exit_error, std::string("error: ") + e.what());
         std::cerr << "clsph: error: " << e.what() << '\n';
         return clsph::app::exit_error;
     }

@@ -20,6 +20,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
+    opts.ranks = args.ranks;
     // A long set-up (hundreds of millions of particles) says what it is doing, once it has taken
     // more than two seconds; a short one stays quiet.
     opts.on_setup = [start = std::chrono::steady_clock::now()](const std::string& line) {

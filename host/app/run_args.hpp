@@ -1,5 +1,8 @@
 // What `clsph run` was asked to do, as parsed from the command line (main.cpp).
 #pragma once
+#include <clsph/ranks.hpp>
+
+#include <memory>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -9,6 +12,8 @@ namespace clsph::app {
 
 struct RunArgs {
     std::string scene_path;
+    // Started by mpirun (main.cpp): this rank's place in the run (clsph/ranks.hpp); null: one process.
+    std::shared_ptr<Ranks> ranks;
     std::string devices;                      // empty: $CLSPH_DEVICES or the default selection
     std::optional<double> until;              // simulated seconds; default: the scene's run.end_time
     std::optional<std::uint64_t> steps;       // stop after this many steps

@@ -36,6 +36,24 @@
 namespace clsph::app {
 namespace {
 
+// Across MPI ranks: rank 0 speaks and writes the run's files; every rank writes its frame pieces.
+bool speaks(const RunArgs& args) { return !args.ranks || rank_of(*args.ranks) == 0; }
+
+// Every device of the run: this process's, or across ranks every rank's ("rank R: #i name").
+std::vector<std::string> all_device_names(const Simulation& sim, const RunArgs& args) {
+    const auto mine = sim.device_names();
+    if (!args.ranks) return mine;
+    std::string joined;
+    for (const auto& n : mine) joined += n + '\n';
+    std::vector<std::string> out;
+    const auto all = gather_text(*args.ranks, joined);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+        std::istringstream lines(all[r]);
+        for (std::string line; std::getline(lines, line);) out.push_back("rank " + std::to_string(r) + ": " + line);
+    }
+    return out;
+}
+
 std::vector<std::string> interaction_forms(const Simulation& sim) {
     std::vector<std::string> out;
     for (const auto& d : sim.shares()) out.push_back(interaction_name(d.interaction));
@@ -75,11 +93,11 @@ public:
           plan_(plan),
           resume_(resume),
           record_(plan.out_dir,
-                  RunIdentity{args.scene_path, args.overrides, args.command_line, sim.device_names(),
+                  RunIdentity{args.scene_path, args.overrides, args.command_line, all_device_names(sim, args),
                               interaction_forms(sim), sim.scene().to_json(), resume ? resume->start_time : std::string(),
                               resume ? resume->resumes : std::vector<std::string>{}},
-                  sim.scene().probes, resume ? &resume->point : nullptr),
-          frames_(plan.out_dir, plan.collection_name, FrameFormat{args.csv, args.compress, args.pieces},
+                  sim.scene().probes, resume ? &resume->point : nullptr, speaks(args)),
+          frames_(plan.out_dir, plan.collection_name, FrameFormat{args.csv, args.compress, args.pieces, args.ranks.get()},
                   FrameFilter::from_options(args.output_stride, args.output_box, args.fields)),
           surfaces_(args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render ||
                             args.video
@@ -112,9 +130,11 @@ public:
             totals_.particle_steps += static_cast<double>(s.particles);
             const int every = sim_.scene().run.probe_every;
             if (every > 0 && s.step % static_cast<std::uint64_t>(every) == 0) sample_probes();
-            progress_.update(s, sim_);
+            if (speaks(args_)) progress_.update(s, sim_);
             frames_.check();  // a writer error (disk full) ends the run now, not at the end
-            if (interrupt_requested()) throw StopRun{"interrupted"};
+            // Across ranks every rank stops at the same step, whichever got the signal.
+            if (args_.ranks ? any_rank(*args_.ranks, interrupt_requested()) : interrupt_requested())
+                throw StopRun{"interrupted"};
             if (plan_.steps && s.step - first_step >= *plan_.steps) throw StopRun{"completed"};
         };
 
@@ -165,6 +185,12 @@ public:
             code = exit_simulation_failed;
             write_last_good();
         } catch (const DeviceError& e) {
+            // Across ranks a device fails on one rank only, while the others wait for it in the
+            // step: stop every rank now, with this rank's message (mpirun reports the status).
+            if (args_.ranks && ranks_in(*args_.ranks) > 1) {
+                progress_.clear();
+                abort_all(*args_.ranks, exit_device_failed, std::string("error: ") + e.what());
+            }
             if (args_.on_device_failure == "continue" && sim_.device_names().size() > 1 && !e.device().empty()) {
                 // run_command goes back to the last checkpoint on the devices that are left.
                 progress_.clear();
@@ -201,6 +227,7 @@ public:
         totals_.loop_seconds = seconds_since(start);
         record_.finish(totals_.outcome, sim_.info(), message, code, signal);
         disarm_abort_record();
+        if (!speaks(args_)) return code;  // across ranks, rank 0 reports
 
         totals_.last = sim_.info();
         totals_.steps = sim_.info().step - first_step;
@@ -298,6 +325,7 @@ private:
     // The API does not say at what time last_good() was taken (with this loop it is the last frame
     // downloaded), so it goes beside the series rather than into the .pvd at a guessed time.
     void write_last_good() {
+        if (!speaks(args_)) return;
         const std::string base = plan_.out_dir + "/last_good";
         write_vtu(base + ".vtu", sim_.last_good());
         if (args_.csv) write_csv(base + ".csv", sim_.last_good());
@@ -426,7 +454,31 @@ int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clo
     return run_with_failover(sim, args, plan, &state, scene, start);
 }
 
-int run_command(const RunArgs& args) {
+namespace {
+// What a run across MPI ranks does not do yet (issue 21), refused before anything starts; the
+// checkpoint at the end is left out (said once).
+RunArgs across_ranks(RunArgs args) {
+    if (!args.ranks || ranks_in(*args.ranks) < 2) return args;
+    auto refuse = [](const char* what) {
+        throw Error(std::string(what) + " is not supported across MPI ranks yet (issue 21); run it in one process");
+    };
+    if (args.dry_run) refuse("--dry-run");
+    if (!args.resume_dir.empty()) refuse("clsph resume");
+    if (args.checkpoint_every) refuse("--checkpoint-every");
+    if (args.on_device_failure == "continue") refuse("--on-device-failure continue");
+    if (args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render || args.video)
+        refuse("the free surface and images (--surface, --render, --video)");
+    if (args.csv) refuse("--csv");
+    if (!args.no_checkpoint && rank_of(*args.ranks) == 0)
+        std::cout << "clsph: across " << ranks_in(*args.ranks)
+                  << " MPI ranks no checkpoint is written (not supported yet); frames go as one piece per rank" << std::endl;
+    args.no_checkpoint = true;
+    return args;
+}
+}  // namespace
+
+int run_command(const RunArgs& given) {
+    const RunArgs args = across_ranks(given);
     if (args.no_checkpoint && args.on_device_failure == "continue")
         throw Error("--no-checkpoint with --on-device-failure continue: going on after a device failure starts from a "
                     "checkpoint; drop one of them");
@@ -451,17 +503,20 @@ int run_command(const RunArgs& args) {
         return interrupt_signal() == SIGTERM ? exit_terminated : exit_interrupted;
     }
     Simulation& sim = *simulation;
-    std::cout << "clsph: " << args.scene_path << " on";
-    for (const auto& d : sim.device_names()) std::cout << ' ' << d;
-    std::cout << ": " << sim.info().particles << " particles, ";
-    if (std::isfinite(plan.until))
-        std::cout << "to t = " << plan.until << " s";
-    else
-        std::cout << *plan.steps << " steps";
-    std::cout << ", output in " << plan.out_dir << std::endl;
-
-    // Only now, with the scene loaded and the devices ready, does the directory appear.
-    prepare_output_dir(plan.out_dir, args.force);
+    const auto names = all_device_names(sim, args);
+    if (speaks(args)) {
+        std::cout << "clsph: " << args.scene_path << " on";
+        for (const auto& d : names) std::cout << (args.ranks ? "\n  " : " ") << d;
+        std::cout << (args.ranks ? "\n  " : ": ") << sim.info().particles << " particles, ";
+        if (std::isfinite(plan.until))
+            std::cout << "to t = " << plan.until << " s";
+        else
+            std::cout << *plan.steps << " steps";
+        std::cout << ", output in " << plan.out_dir << std::endl;
+        // Only now, with the scene loaded and the devices ready, does the directory appear.
+        prepare_output_dir(plan.out_dir, args.force);
+    }
+    if (args.ranks) wait_for_all(*args.ranks);  // the directory is there before any rank writes
     return run_with_failover(sim, args, plan, nullptr, scene, start);
 }
 

@@ -98,8 +98,11 @@ std::ofstream reopen_csv(const std::string& path, const char* header, const std:
 
 }  // namespace
 
-RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume)
-    : dir_(std::move(dir)), identity_(std::move(identity)), started_(utc_now()), last_flush_(std::chrono::steady_clock::now()) {
+RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume,
+                     bool writes)
+    : dir_(std::move(dir)), identity_(std::move(identity)), started_(utc_now()), last_flush_(std::chrono::steady_clock::now()),
+      writes_(writes) {
+    if (!writes_) return;
     if (!identity_.start_time.empty()) started_ = identity_.start_time;
     const char* stats_header = "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed";
     if (resume) {
@@ -123,6 +126,7 @@ RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Pr
 }
 
 void RunRecord::step(const StepInfo& s) {
+    if (!writes_) return;
     char row[256];
     std::snprintf(row, sizeof row, "%llu,%.9g,%.6g,%zu,%zu,%zu,%.6g,%.6g\n", static_cast<unsigned long long>(s.step),
                   s.time, s.dt, s.particles, s.fluid, s.removed, s.kinetic_energy, s.max_speed);
@@ -137,6 +141,7 @@ void RunRecord::step(const StepInfo& s) {
 }
 
 void RunRecord::probes(const std::vector<ProbeSample>& samples) {
+    if (!writes_) return;
     for (const auto& s : samples) {
         for (auto& [name, file] : probe_files_) {
             if (name != s.name) continue;
@@ -149,6 +154,7 @@ void RunRecord::probes(const std::vector<ProbeSample>& samples) {
 }
 
 void RunRecord::flush() {
+    if (!writes_) return;
     last_flush_ = std::chrono::steady_clock::now();
     stats_.flush();
     if (!stats_) throw Error("cannot write " + dir_ + "/stats.csv");
@@ -160,6 +166,7 @@ void RunRecord::flush() {
 
 void RunRecord::finish(const std::string& status, const StepInfo& last, const std::string& message, int exit_status,
                        const std::string& signal) {
+    if (!writes_) return;
     stats_.flush();
     for (auto& entry : probe_files_) entry.second->flush();
     write_json(Ending{status, &last, message, exit_status, signal});

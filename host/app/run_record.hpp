@@ -37,7 +37,9 @@ struct ResumePoint {
 
 class RunRecord {
 public:
-    RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume = nullptr);
+    // `writes` false: a record that writes nothing (the ranks of an MPI run other than rank 0).
+    RunRecord(std::string dir, RunIdentity identity, const std::vector<Probe>& probes, const ResumePoint* resume = nullptr,
+              bool writes = true);
 
     // stats.csv: step,time,dt,particles,fluid,removed,kinetic_energy,max_speed. The files are
     // flushed about once a second, so `tail -f` and a plotting script see the run as it goes, and
@@ -78,6 +80,7 @@ private:
     std::ofstream stats_;
     std::chrono::steady_clock::time_point last_flush_;
     std::vector<std::pair<std::string, std::unique_ptr<std::ofstream>>> probe_files_;  // by probe name
+    bool writes_ = true;
 };
 
 }  // namespace clsph::app

@@ -350,8 +350,11 @@ Particles Simulation::particles() {
 
 std::vector<Particles> Simulation::particles_by_device(const Selection& which) {
     auto& m = *impl_;
-    m.one_process("frames per device (pieces)");
     auto& slabs = m.driver->slabs();
+    // Across ranks: this rank's slabs (the others' pieces are theirs to write).
+    std::vector<std::size_t> here;
+    for (std::size_t d = 0; d < slabs.size(); ++d)
+        if (m.driver->here(d)) here.push_back(d);
     std::vector<Particles> pieces(slabs.size());
     auto download = [&](std::size_t k) {
         pieces[k] = cl_rt::guarded("downloading the particles", slabs[k].device->label(), [&] {
@@ -359,13 +362,13 @@ std::vector<Particles> Simulation::particles_by_device(const Selection& which) {
         });
         fill_pressure(pieces[k], m.driver->params());
     };
-    if (slabs.size() == 1) {
-        download(0);
+    if (here.size() == 1) {
+        download(here[0]);
     } else {
         // Each device's read waits on its own queue: one thread per device, so they overlap.
         std::vector<std::exception_ptr> errors(slabs.size());
         std::vector<std::thread> threads;
-        for (std::size_t k = 0; k < slabs.size(); ++k)
+        for (std::size_t k : here)
             threads.emplace_back([&, k] {
                 try {
                     download(k);
@@ -376,6 +379,11 @@ std::vector<Particles> Simulation::particles_by_device(const Selection& which) {
         for (auto& t : threads) t.join();
         for (const auto& e : errors)
             if (e) std::rethrow_exception(e);
+    }
+    if (m.driver->across_ranks()) {
+        std::vector<Particles> mine;
+        for (auto k : here) mine.push_back(std::move(pieces[k]));
+        return mine;  // (a rank's part is no state to go back to)
     }
     if (!which.all()) return pieces;  // a thinned state is no state to go back to
     Particles all;

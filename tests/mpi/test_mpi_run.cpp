@@ -31,8 +31,8 @@ namespace {
 
 std::shared_ptr<Ranks> ranks;
 
-// Particles by id: position, velocity and density words.
-using State = std::map<std::uint32_t, std::array<float, 7>>;
+// Particles by id: position (as decoded, double), velocity and density.
+using State = std::map<std::uint32_t, std::array<double, 7>>;
 
 // Waits for every rank without spinning a core (the devices' threads need both cores).
 void gentle_barrier() {
@@ -44,32 +44,31 @@ void gentle_barrier() {
     }
 }
 
+std::array<double, 7> words(const Particles& p, std::size_t i) {
+    return {p.position[i][0], p.position[i][1], p.position[i][2], p.velocity[i][0], p.velocity[i][1], p.velocity[i][2],
+            p.density[i]};
+}
+
 // Every rank's particles, on every rank; `duplicates` counts ids seen twice.
 State gather_state(Simulation& sim, std::size_t& duplicates) {
     const Particles p = sim.particles();
-    std::vector<std::uint32_t> mine;
+    std::vector<double> mine;  // id (exact in a double), then the 7 words
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const float w[7] = {p.position[i][0], p.position[i][1], p.position[i][2], p.velocity[i][0],
-                            p.velocity[i][1], p.velocity[i][2], p.density[i]};
         mine.push_back(p.id[i]);
-        for (float x : w) {
-            std::uint32_t u;
-            std::memcpy(&u, &x, 4);
-            mine.push_back(u);
-        }
+        for (double x : words(p, i)) mine.push_back(x);
     }
     int n = static_cast<int>(mine.size()), size = ranks_in(*ranks);
     std::vector<int> counts(static_cast<std::size_t>(size)), at(static_cast<std::size_t>(size), 0);
     MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
     for (int r = 1; r < size; ++r) at[static_cast<std::size_t>(r)] = at[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
-    std::vector<std::uint32_t> all(static_cast<std::size_t>(at.back() + counts.back()));
-    MPI_Allgatherv(mine.data(), n, MPI_UINT32_T, all.data(), counts.data(), at.data(), MPI_UINT32_T, MPI_COMM_WORLD);
+    std::vector<double> all(static_cast<std::size_t>(at.back() + counts.back()));
+    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), at.data(), MPI_DOUBLE, MPI_COMM_WORLD);
     State s;
     duplicates = 0;
     for (std::size_t i = 0; i + 8 <= all.size(); i += 8) {
-        std::array<float, 7> w;
-        std::memcpy(w.data(), &all[i + 1], sizeof w);
-        duplicates += !s.emplace(all[i], w).second;
+        std::array<double, 7> w;
+        std::copy(all.begin() + static_cast<std::ptrdiff_t>(i) + 1, all.begin() + static_cast<std::ptrdiff_t>(i) + 8, w.begin());
+        duplicates += !s.emplace(static_cast<std::uint32_t>(all[i]), w).second;
     }
     return s;
 }
@@ -77,9 +76,7 @@ State gather_state(Simulation& sim, std::size_t& duplicates) {
 State local_state(Simulation& sim) {
     const Particles p = sim.particles();
     State s;
-    for (std::size_t i = 0; i < p.size(); ++i)
-        s[p.id[i]] = {p.position[i][0], p.position[i][1], p.position[i][2], p.velocity[i][0],
-                      p.velocity[i][1], p.velocity[i][2], p.density[i]};
+    for (std::size_t i = 0; i < p.size(); ++i) s[p.id[i]] = words(p, i);
     return s;
 }
 

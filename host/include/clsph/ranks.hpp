@@ -8,6 +8,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace clsph {
 
@@ -21,6 +22,11 @@ std::shared_ptr<Ranks> mpi_ranks(int& argc, char**& argv);
 
 int rank_of(const Ranks& ranks);   // 0 .. ranks_in(ranks) - 1
 int ranks_in(const Ranks& ranks);  // how many processes the run spans
+
+// Collectives a host program needs around a run (every rank must call them, in the same order).
+void wait_for_all(Ranks& ranks);                                           // a barrier
+bool any_rank(Ranks& ranks, bool mine);                                    // true if any rank says so
+std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine);  // every rank's, in rank order
 
 // Stops every rank after an error on this one (MPI_Abort), printing `message` with the rank, so
 // the others do not wait for its messages forever. Without MPI: prints and exits with `code`.

@@ -50,6 +50,25 @@ public:
         return all;
     }
 
+    std::vector<std::string> gather_text(const std::string& mine) override {
+        const auto lengths = gather_all({static_cast<std::uint64_t>(mine.size())});
+        std::vector<int> counts, at;
+        int total = 0;
+        for (auto n : lengths) {
+            counts.push_back(count(n));
+            at.push_back(total);
+            total += counts.back();
+        }
+        std::string all(static_cast<std::size_t>(total), '\0');
+        mpi::check(MPI_Allgatherv(mine.data(), count(mine.size()), MPI_CHAR, all.data(), counts.data(), at.data(), MPI_CHAR,
+                                  env_.comm()),
+                   "MPI_Allgatherv", "gathering text from the ranks");
+        std::vector<std::string> out;
+        for (std::size_t r = 0; r < counts.size(); ++r)
+            out.push_back(all.substr(static_cast<std::size_t>(at[r]), static_cast<std::size_t>(counts[r])));
+        return out;
+    }
+
     void broadcast(std::vector<std::uint64_t>& v, int root) override {
         mpi::check(MPI_Bcast(v.data(), count(v.size()), MPI_UINT64_T, root, env_.comm()), "MPI_Bcast",
                    "broadcasting the cuts");

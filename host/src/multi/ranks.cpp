@@ -10,6 +10,16 @@ namespace clsph {
 
 int rank_of(const Ranks& ranks) { return ranks.rank(); }
 int ranks_in(const Ranks& ranks) { return ranks.size(); }
+void wait_for_all(Ranks& ranks) {
+    std::vector<std::uint64_t> none{0};
+    ranks.sum(none);
+}
+bool any_rank(Ranks& ranks, bool mine) {
+    std::vector<std::uint64_t> n{mine ? 1u : 0u};
+    ranks.sum(n);
+    return n[0] > 0;
+}
+std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine) { return ranks.gather_text(mine); }
 void abort_all(const Ranks& ranks, int code, const std::string& message) { ranks.abort(code, message); }
 
 #if !CLSPH_HAVE_MPI

@@ -26,6 +26,8 @@ public:
     virtual void max(std::vector<double>& v) = 0;
     // Every rank's `mine` (the same length on every rank), in rank order.
     virtual std::vector<std::uint64_t> gather_all(const std::vector<std::uint64_t>& mine) = 0;
+    // Every rank's text, in rank order (any lengths).
+    virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
     // Rank `root`'s `v` on every rank (the same length on every rank).
     virtual void broadcast(std::vector<std::uint64_t>& v, int root) = 0;
 

@@ -1,0 +1,170 @@
+// `mpirun -np 2 clsph run` (issue 21), started as a user would start it: the frames' pieces together
+// hold every particle exactly once and equal the same run in one process on the node's two devices
+// bit for bit; rank 0 writes the run's files; a rank whose device fails stops every rank with its
+// message; SIGTERM to mpirun ends the run as it does for one process. CTest runs this program alone
+// (not under mpirun) with POCL_DEVICES="pthread pthread".
+#include "process.hpp"
+
+#include <clsph/io.hpp>
+#include <nlohmann/json.hpp>
+
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace clsph;
+
+namespace {
+
+const std::string scene = std::string(CLSPH_SOURCE_DIR) + "/scenes/dam_break.json";
+// The CLI suite's tiny dam break (6,305 particles).
+const std::vector<std::string> tiny = {"--set", "physics.dp=0.0146", "--set", "physics.coefsound=10",
+                                       "--set", "domain.max=[0.624,0.1898,0.45]", "--set", "fluid[0].max=[0.146,0.1752,0.292]",
+                                       "--set", "boundaries.walls[0].max=[0.584,0.1752,0.365]"};
+
+std::string work_dir(const std::string& name) {
+    const std::string d = std::string(CLSPH_CLI_WORK) + "/" + name;
+    fs::remove_all(d);
+    fs::create_directories(CLSPH_CLI_WORK);
+    return d;
+}
+
+// mpiexec -n 2 [flags] clsph ARGS
+std::vector<std::string> mpi_args(const std::vector<std::string>& clsph_args) {
+    std::vector<std::string> a = {CLSPH_MPIEXEC_NUMPROC_FLAG, "2"};
+    for (const char* f : CLSPH_MPIEXEC_FLAGS) a.push_back(f);
+    a.push_back(CLSPH_CLI);
+    a.insert(a.end(), clsph_args.begin(), clsph_args.end());
+    return a;
+}
+
+std::vector<std::string> join(std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+int run_program(const std::string& program, const std::vector<std::string>& args, std::string& log, double timeout = 120) {
+    const std::string path = std::string(CLSPH_CLI_WORK) + "/mpi_command.log";
+    int code = 0;
+    {
+        cli_test::Process p(program, args, path);
+        code = p.wait(timeout);
+    }
+    log = cli_test::read_text(path);
+    return code;
+}
+
+std::map<std::uint32_t, std::array<double, 4>> by_id(const Particles& p, std::size_t& duplicates) {
+    std::map<std::uint32_t, std::array<double, 4>> m;
+    duplicates = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        duplicates += !m.emplace(p.id[i], std::array<double, 4>{p.position[i][0], p.position[i][1], p.position[i][2],
+                                                                 static_cast<double>(p.density[i])})
+                           .second;
+    return m;
+}
+
+nlohmann::json read_json(const std::string& path) {
+    std::ifstream f(path);
+    return nlohmann::json::parse(f);
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -np 2 clsph run: the pieces hold every particle once, bitwise the run in one process") {
+    const std::string across = work_dir("mpi_across"), one = work_dir("mpi_one");
+    const std::vector<std::string> common = join({"run", scene}, join(tiny, {"--steps", "60", "--every", "100"}));
+    std::string log;
+    int code = run_program(CLSPH_MPIEXEC, mpi_args(join(common, {"--out", across})), log);
+    INFO(log);
+    REQUIRE(code == 0);
+    CHECK(log.find("rank 0: #0") != std::string::npos);
+    CHECK(log.find("rank 1: #1") != std::string::npos);
+    std::string log1;
+    REQUIRE(run_program(CLSPH_CLI, join(common, {"--out", one, "--devices", "0,1", "--no-checkpoint"}), log1) == 0);
+
+    // The last frame: two pieces named by the index, which read back as one frame.
+    const std::string index = across + "/frame_00001.pvtu";
+    REQUIRE(fs::exists(index));
+    const auto sources = read_pvtu_sources(index);
+    CHECK(sources == std::vector<std::string>{"frame_00001_p0.vtu", "frame_00001_p1.vtu"});
+    std::size_t dup_a = 0, dup_b = 0;
+    const auto a = by_id(read_vtu(index), dup_a);
+    const auto b = by_id(read_vtu(one + "/frame_00001.vtu"), dup_b);
+    CHECK(dup_a == 0);
+    CHECK(dup_b == 0);
+    REQUIRE(a.size() == b.size());
+    std::size_t differ = 0;
+    for (const auto& [id, x] : b) {
+        const auto it = a.find(id);
+        differ += it == a.end() || std::memcmp(it->second.data(), x.data(), sizeof x) != 0;
+    }
+    CHECK(differ == 0);
+    // Rank 0's files: the collection names the index; stats and run.json list every rank.
+    const auto frames = read_pvd(across + "/dam_break.pvd");
+    REQUIRE(frames.size() == 2);
+    CHECK(frames.back().file == "frame_00001.pvtu");
+    const auto j = read_json(across + "/run.json");
+    CHECK(j.at("status") == "completed");
+    const auto devices = j.at("devices").dump();
+    CHECK(devices.find("rank 0: ") != std::string::npos);
+    CHECK(devices.find("rank 1: ") != std::string::npos);
+    CHECK(cli_test::read_text(across + "/stats.csv") == cli_test::read_text(one + "/stats.csv"));
+}
+
+TEST_CASE("a rank whose device fails stops every rank with that rank's message and a non-zero status") {
+    const std::string out = work_dir("mpi_fault");
+    const std::vector<std::string> run = join({"run", scene}, join(tiny, {"--until", "0.5", "--out", out}));
+    // Two application contexts: rank 1 alone gets the fault (its 400th kernel launch fails).
+    std::vector<std::string> a = {CLSPH_MPIEXEC_NUMPROC_FLAG, "1"};
+    for (const char* f : CLSPH_MPIEXEC_FLAGS) a.push_back(f);
+    a.push_back(CLSPH_CLI);
+    a.insert(a.end(), run.begin(), run.end());
+    a.insert(a.end(), {":", CLSPH_MPIEXEC_NUMPROC_FLAG, "1", "env", "CLSPH_TEST_FAULT=enqueue:400", CLSPH_CLI});
+    a.insert(a.end(), run.begin(), run.end());
+    std::string log;
+    const auto t0 = std::chrono::steady_clock::now();
+    const int code = run_program(CLSPH_MPIEXEC, a, log, 90);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    INFO(log);
+    CHECK(code != 0);
+    CHECK(code != -1000);  // not a hang ended by the timeout
+    CHECK(log.find("rank 1 of 2") != std::string::npos);
+    CHECK(log.find("CL_") != std::string::npos);  // the injected OpenCL error, named
+    MESSAGE("stopped after " << seconds << " s");
+}
+
+TEST_CASE("SIGTERM to mpirun ends every rank as one process ends: a final frame, run.json interrupted") {
+    const std::string out = work_dir("mpi_sigterm");
+    std::string log;
+    const std::string path = std::string(CLSPH_CLI_WORK) + "/mpi_sigterm.log";
+    int code = 0;
+    {
+        cli_test::Process p(CLSPH_MPIEXEC, mpi_args(join({"run", scene}, join(tiny, {"--until", "100", "--every", "0.01", "--out", out}))),
+                            path);
+        // Once the run is under way (a few frames written), as a user's Ctrl-C or a batch system would.
+        for (int i = 0; i < 600 && !fs::exists(out + "/frame_00003.pvtu"); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        REQUIRE(fs::exists(out + "/frame_00003.pvtu"));
+        p.signal(SIGTERM);
+        code = p.wait(60);
+    }
+    log = cli_test::read_text(path);
+    INFO(log);
+    CHECK(code != -1000);
+    const auto j = read_json(out + "/run.json");
+    CHECK(j.at("status") == "interrupted");
+    // The final frame's index names both pieces, and they exist.
+    const auto frames = read_pvd(out + "/dam_break.pvd");
+    REQUIRE(!frames.empty());
+    for (const auto& s : read_pvtu_sources(out + "/" + frames.back().file)) CHECK(fs::exists(out + "/" + s));
+}
