@@ -150,7 +150,7 @@ TEST_CASE("the dam break on N ranks is bitwise the same run in one process on N 
 TEST_CASE("migration across the rank boundary: cuts forced to move every step, no id lost or duplicated") {
     Scene s = test::small_dam(0.146 / 8);
     s.fluids.front().velocity = {2.0, 0.0, 0.0};
-    compare(s, 300, [](Options& o) {
+    compare(s, 500, [](Options& o) {
         testing::Seams seams;
         seams.cut_schedule = sweeping;
         testing::set_seams(o, seams);
