@@ -240,9 +240,12 @@ int main(int argc, char** argv) {
         if (steps_text) run_args.steps = parse_steps(*steps_text);
         if (*devices) return list_devices_command(spec);
         if (*surface) return clsph::app::surface_command(surface_args);
-        if (*resume)
-            return clsph::app::run_command(resume_args(resume_dir, resume_until, resume_devices, resume_steps,
-                                                       std::vector<std::string>(argv, argv + argc)));
+        if (*resume) {
+            run_args = resume_args(resume_dir, resume_until, resume_devices, resume_steps,
+                                   std::vector<std::string>(argv, argv + argc));
+            if (launched_ranks() > 1) run_args.ranks = clsph::mpi_ranks(argc, argv);  // as for run, below
+            return clsph::app::run_command(run_args);
+        }
         if (*render) return clsph::app::surface_command(render_args);
         if (*run) {
             run_args.command_line.assign(argv, argv + argc);

@@ -313,6 +313,7 @@ private:
             return 0;
         });
         last_checkpoint_step_ = sim_.info().step;
+        if (!speaks(args_)) return;  // across ranks rank 0 wrote it, and keeps the directory
         const auto all = list_checkpoints(plan_.out_dir);
         for (std::size_t i = 0; i + args_.checkpoint_keep < all.size(); ++i) std::remove(all[i].second.c_str());
     }
@@ -442,37 +443,33 @@ int resume_run(const Scene& scene, const RunArgs& args, const RunPlan& plan, clo
     install_interrupt_handler();
     std::unique_ptr<Simulation> simulation = make_simulation(scene, args, &checkpoint);
     Simulation& sim = *simulation;
+    const auto names = all_device_names(sim, args);
     nlohmann::json entry{{"command_line", args.resume_command_line}, {"checkpoint", path},
                          {"step", checkpoint.step},   {"time", checkpoint.time},
-                         {"devices", sim.device_names()}, {"at", utc_now()}};
+                         {"devices", names}, {"at", utc_now()}};
     if (!args.resume_reason.empty()) entry["reason"] = args.resume_reason;
     state.resumes.push_back(entry.dump());
-    std::cout << "clsph: resuming " << plan.out_dir << " from " << path << " (step " << checkpoint.step << ", t = "
-              << checkpoint.time << " s) on";
-    for (const auto& d : sim.device_names()) std::cout << ' ' << d;
-    std::cout << ", to t = " << plan.until << " s" << std::endl;
+    if (speaks(args)) {
+        std::cout << "clsph: resuming " << plan.out_dir << " from " << path << " (step " << checkpoint.step << ", t = "
+                  << checkpoint.time << " s) on";
+        for (const auto& d : names) std::cout << (args.ranks ? "\n  " : " ") << d;
+        std::cout << (args.ranks ? "\n  " : ", ") << "to t = " << plan.until << " s" << std::endl;
+    }
     return run_with_failover(sim, args, plan, &state, scene, start);
 }
 
 namespace {
-// What a run across MPI ranks does not do yet (issue 21), refused before anything starts; the
-// checkpoint at the end is left out (said once).
+// What a run across MPI ranks does not do yet (issue 21), refused before anything starts.
 RunArgs across_ranks(RunArgs args) {
     if (!args.ranks || ranks_in(*args.ranks) < 2) return args;
     auto refuse = [](const char* what) {
         throw Error(std::string(what) + " is not supported across MPI ranks yet (issue 21); run it in one process");
     };
     if (args.dry_run) refuse("--dry-run");
-    if (!args.resume_dir.empty()) refuse("clsph resume");
-    if (args.checkpoint_every) refuse("--checkpoint-every");
     if (args.on_device_failure == "continue") refuse("--on-device-failure continue");
     if (args.surface || args.surface_every || args.surface_ply || args.surface_spacing > 0 || args.render || args.video)
         refuse("the free surface and images (--surface, --render, --video)");
     if (args.csv) refuse("--csv");
-    if (!args.no_checkpoint && rank_of(*args.ranks) == 0)
-        std::cout << "clsph: across " << ranks_in(*args.ranks)
-                  << " MPI ranks no checkpoint is written (not supported yet); frames go as one piece per rank" << std::endl;
-    args.no_checkpoint = true;
     return args;
 }
 }  // namespace

@@ -126,7 +126,6 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene
         // This rank's devices (dealt from the node's, or its own clause of a per-rank spec). The
         // memory plan is one process's: across ranks a device that runs short says so when it
         // allocates.
-        if (c) throw Error("resuming a checkpoint across MPI ranks is not supported yet (issue 21): resume in one process");
         std::string mine;
         for (auto i : multi::rank_devices(list_devices(), spec, options.ranks->place()))
             mine += (mine.empty() ? "" : ",") + std::to_string(i);
@@ -162,7 +161,8 @@ void Simulation::Impl::init(const Particles& p, const Checkpoint* c, const scene
     if (options.seams) dopt.seams = *options.seams;
     dopt.progress = options.on_setup;
     dopt.ranks = options.ranks;
-    if (c && c->counts.size() == m.devices.size()) dopt.cuts.assign(c->cuts.begin(), c->cuts.end());
+    // A checkpoint's cuts, which the driver takes when they fit its slab count (every rank's slabs).
+    if (c) dopt.cuts.assign(c->cuts.begin(), c->cuts.end());
     // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
     const auto k = cl_rt::guarded("setting up the devices", "", [&] {
         m.driver = lattice ? std::make_unique<multi::SlabDriver>(devs, m.grid, m.scene, *lattice, dopt)
@@ -188,15 +188,23 @@ void Simulation::Impl::restore(const Checkpoint& c) {
     // The first pass sorted the decoded particles; the checkpoint's arrays go over the owned ones.
     // Written on this device count with the same split, each slab holds its block of the file in
     // its order: the arrays go in as they are. Otherwise by id (the order is the new split's).
+    // Across ranks each rank restores its own slabs (its block of the file starts after the blocks
+    // of the slabs before it, whichever rank holds them).
     auto& slabs = driver->slabs();
     bool same = c.counts.size() == slabs.size();
-    for (std::size_t d = 0; same && d < slabs.size(); ++d) same = slabs[d].store->ranges.owned == c.counts[d];
+    for (std::size_t d = 0; same && d < slabs.size(); ++d)
+        same = !driver->here(d) || slabs[d].store->ranges.owned == c.counts[d];
     std::unordered_map<std::uint32_t, std::size_t> index;
     if (!same)
         for (std::size_t i = 0; i < c.size(); ++i) index[c.id[i]] = i;
     std::size_t from = 0;
     cl_rt::guarded("restoring the checkpoint", "", [&] {
-        for (auto& s : slabs) {
+        for (std::size_t slab = 0; slab < slabs.size(); ++slab) {
+            if (!driver->here(slab)) {
+                if (same) from += c.counts[slab];
+                continue;
+            }
+            auto& s = slabs[slab];
             auto& d = *s.device;
             auto& st = *s.store;
             const std::size_t n = st.ranges.owned, first = st.ranges.first_owned();
@@ -206,6 +214,11 @@ void Simulation::Impl::restore(const Checkpoint& c) {
                 std::copy_n(c.pos.begin() + 4 * from, 4 * n, pos.begin());
                 std::copy_n(c.velrho.begin() + 4 * from, 4 * n, velrho.begin());
                 std::copy_n(c.accel.begin() + 4 * from, 4 * n, accel.begin());
+                // The ids go with them: a particle on a cell face may have sorted elsewhere in the
+                // first pass (its position decoded and encoded again), while the file's block is
+                // the slab's sorted order as saved. The cell tables follow at the next exchange,
+                // before any force pass.
+                d.write(st.id, c.id.data() + from, n, first);
                 from += n;
             } else {
                 std::vector<std::uint32_t> ids(n);
@@ -243,7 +256,6 @@ void Simulation::Impl::restore(const Checkpoint& c) {
 
 Checkpoint Simulation::checkpoint() {
     auto& m = *impl_;
-    m.one_process("checkpoints");
     if (!m.in_flight.empty())
         throw Error("checkpoint(): steps run ahead of the host; save after run_until returns, not in the step callback");
     m.drop_left();
@@ -260,6 +272,10 @@ Checkpoint Simulation::checkpoint() {
     c.kinetic_energy = m.info.kinetic_energy;
     c.max_speed = m.info.max_speed;
     for (auto cut : m.driver->cuts()) c.cuts.push_back(cut);
+    if (m.driver->across_ranks()) {
+        m.checkpoint_across_ranks(c);
+        return c;
+    }
     cl_rt::guarded("reading the checkpoint", "", [&] {
         for (auto& s : m.driver->slabs()) {
             auto& d = *s.device;
@@ -281,7 +297,67 @@ Checkpoint Simulation::checkpoint() {
     return c;
 }
 
-void Simulation::save(const std::string& path) { write_checkpoint(path, checkpoint()); }
+void Simulation::save(const std::string& path) {
+    // Across ranks every rank takes part in checkpoint(); rank 0 writes the file.
+    const Checkpoint c = checkpoint();
+    if (!impl_->options.ranks || impl_->options.ranks->rank() == 0) write_checkpoint(path, c);
+}
+
+void Simulation::Impl::checkpoint_across_ranks(Checkpoint& c) {
+    // Each rank's slabs as bytes (slab, count, then the four arrays), gathered on every rank and
+    // laid out in slab order: the file one process on as many devices would write.
+    std::string mine;
+    auto put = [&](const void* p, std::size_t bytes) { mine.append(static_cast<const char*>(p), bytes); };
+    auto& slabs = driver->slabs();
+    cl_rt::guarded("reading the checkpoint", "", [&] {
+        for (std::size_t d = 0; d < slabs.size(); ++d) {
+            if (!driver->here(d)) continue;
+            auto& s = slabs[d];
+            auto& st = *s.store;
+            const std::uint64_t n = st.ranges.owned, first = st.ranges.first_owned(), slab = d;
+            std::vector<float> pos(4 * n), velrho(4 * n), accel(4 * n);
+            std::vector<std::uint32_t> id(n);
+            if (n) {
+                s.device->read(st.pos, pos.data(), 4 * n, 4 * first);
+                s.device->read(st.velrho, velrho.data(), 4 * n, 4 * first);
+                s.device->read(st.accel, accel.data(), 4 * n, 4 * first);
+                s.device->read(st.id, id.data(), n, first);
+            }
+            put(&slab, 8);
+            put(&n, 8);
+            put(pos.data(), 16 * n);
+            put(velrho.data(), 16 * n);
+            put(accel.data(), 16 * n);
+            put(id.data(), 4 * n);
+        }
+        return 0;
+    });
+    struct Part { const char* at; std::uint64_t n; };
+    std::vector<Part> parts(slabs.size(), Part{nullptr, 0});
+    const auto all = options.ranks->gather_text(mine);
+    for (const auto& r : all)
+        for (std::size_t k = 0; k + 16 <= r.size();) {
+            std::uint64_t slab = 0, n = 0;
+            std::memcpy(&slab, r.data() + k, 8);
+            std::memcpy(&n, r.data() + k + 8, 8);
+            if (slab >= parts.size() || r.size() - k - 16 < 52 * n) throw Error("checkpoint across ranks: a rank's part is malformed");
+            parts[slab] = {r.data() + k + 16, n};
+            k += 16 + 52 * n;
+        }
+    for (const auto& part : parts) {
+        const std::size_t at = c.size(), n = part.n;
+        c.counts.push_back(n);
+        c.pos.resize(4 * (at + n));
+        c.velrho.resize(4 * (at + n));
+        c.accel.resize(4 * (at + n));
+        c.id.resize(at + n);
+        if (n == 0) continue;
+        std::memcpy(c.pos.data() + 4 * at, part.at, 16 * n);
+        std::memcpy(c.velrho.data() + 4 * at, part.at + 16 * n, 16 * n);
+        std::memcpy(c.accel.data() + 4 * at, part.at + 32 * n, 16 * n);
+        std::memcpy(c.id.data() + at, part.at + 48 * n, 4 * n);
+    }
+}
 
 Simulation::~Simulation() = default;
 

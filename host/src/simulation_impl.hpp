@@ -64,7 +64,8 @@ struct Simulation::Impl {
     void init(const Particles& p, const Checkpoint* c, const scene::LatticePlan* plan = nullptr);
     void restore(const Checkpoint& c);
 
-    void one_process(const char* what) const;  // throws across MPI ranks: what is not supported there yet
+    void one_process(const char* what) const;
+    void checkpoint_across_ranks(Checkpoint& c);  // every rank's slabs, in slab order (collective)  // throws across MPI ranks: what is not supported there yet
     // The synchronous path's failure: the particle read from the device now.
     [[noreturn]] void fail(const multi::StepOutcome& k);
     // Both paths: `id` the id word, `vr` velocity and density of the particle that failed in the

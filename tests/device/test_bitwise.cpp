@@ -6,6 +6,7 @@
 // the same terms in the same order. CTest runs this suite with POCL_DEVICES="pthread pthread pthread".
 #include "clsph/simulation.hpp"
 #include "clsph/testing.hpp"
+#include "support/cut_schedules.hpp"
 #include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
@@ -80,21 +81,6 @@ int first_difference(std::vector<std::unique_ptr<Simulation>>& sims, int steps) 
     return -1;
 }
 
-// Cuts that sweep back and forth, one or two columns a step, leaving a device with a single column
-// or none now and then.
-std::function<std::vector<std::size_t>(std::uint64_t, std::size_t)> sweeping_cuts(std::size_t D) {
-    return [D](std::uint64_t step, std::size_t columns) {
-        std::vector<std::size_t> c(D + 1, 0);
-        c[D] = columns;
-        for (std::size_t d = 1; d < D; ++d) {
-            const std::size_t phase = (step * (d + 1) + d * columns / D) % (2 * columns);
-            c[d] = phase < columns ? phase : 2 * columns - phase;
-        }
-        std::sort(c.begin(), c.end());
-        return c;
-    };
-}
-
 std::vector<std::unique_ptr<Simulation>> on_1_2_3(const Scene& scene, const std::function<Options(std::size_t)>& options) {
     const auto devs = test::devices();
     if (devs.size() < 2) MESSAGE("needs at least two devices of one implementation, found " << devs.size());
@@ -124,7 +110,7 @@ TEST_CASE("bitwise identical while cuts sweep: narrow slabs, idle devices, parti
         Options o;
         if (D == 1) return o;
         testing::Seams seams;
-        seams.cut_schedule = sweeping_cuts(D);
+        seams.cut_schedule = test::sweeping_cuts(D);
         testing::set_seams(o, seams);
         return o;
     });
@@ -145,7 +131,7 @@ TEST_CASE("mDBC: bitwise identical on 1, 2 and 3 devices while cuts sweep across
         Options o;
         if (D == 1) return o;
         testing::Seams seams;
-        seams.cut_schedule = sweeping_cuts(D);
+        seams.cut_schedule = test::sweeping_cuts(D);
         testing::set_seams(o, seams);
         return o;
     });

@@ -123,6 +123,19 @@ void cpu_sort(const std::vector<u32>& keys, unsigned key_bits, std::vector<u32>&
     for (std::size_t i = 0; i < keys.size(); ++i) sorted_keys[i] = keys[order[i]];
 }
 
+// The device's sorted pairs (keys, original index) against std::stable_sort's, and their guards.
+void check_sorted(cl_rt::Device& dev, const cl_rt::Buffer& dk, const cl_rt::Buffer& dv, const std::vector<u32>& keys,
+                  unsigned key_bits) {
+    const std::size_t n = keys.size();
+    std::vector<u32> want_keys, want_values;
+    cpu_sort(keys, key_bits, want_keys, want_values);
+    const std::string diff = first_differences(download(dev, dk, n), want_keys, "keys") +
+                             first_differences(download(dev, dv, n), want_values, "values");
+    REQUIRE_MESSAGE(diff.empty(), diff);
+    check_guard(dev, dk, n, "keys");
+    check_guard(dev, dv, n, "values");
+}
+
 // Sorts (keys, index) on the device and compares keys and values with std::stable_sort: since the
 // values are the original indices, a stable sort is the only one that matches exactly.
 void check_sort(cl_rt::Device& dev, device::RadixSort& sorter, const std::vector<u32>& keys, unsigned key_bits) {
@@ -144,13 +157,7 @@ void check_sort(cl_rt::Device& dev, device::RadixSort& sorter, const std::vector
     sorter.sort(dk, dv, n, key_bits);
     CHECK(dk.bytes() >= key_capacity);
     CHECK(dv.bytes() >= value_capacity);
-    std::vector<u32> want_keys, want_values;
-    cpu_sort(keys, key_bits, want_keys, want_values);
-    const std::string diff = first_differences(download(dev, dk, n), want_keys, "keys") +
-                             first_differences(download(dev, dv, n), want_values, "values");
-    REQUIRE_MESSAGE(diff.empty(), diff);
-    check_guard(dev, dk, n, "keys");
-    check_guard(dev, dv, n, "values");
+    check_sorted(dev, dk, dv, keys, key_bits);
 }
 
 // As check_sort, through a borrowed scratch buffer (poisoned, with a guard after what it lends):
@@ -171,13 +178,7 @@ void check_sort_through(cl_rt::Device& dev, device::RadixSort& sorter, const std
     sorter.sort_through(dk, dv, n, key_bits, scratch);
     CHECK(dk.get()() == k0);
     CHECK(dv.get()() == v0);
-    std::vector<u32> want_keys, want_values;
-    cpu_sort(keys, key_bits, want_keys, want_values);
-    const std::string diff = first_differences(download(dev, dk, n), want_keys, "keys") +
-                             first_differences(download(dev, dv, n), want_values, "values");
-    REQUIRE_MESSAGE(diff.empty(), diff);
-    check_guard(dev, dk, n, "keys");
-    check_guard(dev, dv, n, "values");
+    check_sorted(dev, dk, dv, keys, key_bits);
     check_guard(dev, scratch, lent, "borrowed scratch");
 }
 

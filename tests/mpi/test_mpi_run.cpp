@@ -3,13 +3,17 @@
 // one to each rank). The same scene then runs in one process on the N devices (rank 0, while the
 // others wait), and the two runs must leave the same particles, bit for bit: the exchange takes
 // arrivals in the same order wherever the slabs run, and the reductions (time step, counts) are exact.
+// A checkpoint taken across the ranks holds every slab in slab order (the same file as one process
+// writes when the cuts are the same), and a run restarted from it across the ranks goes on bitwise.
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>
 
+#include "clsph/checkpoint.hpp"
 #include "clsph/error.hpp"
 #include "clsph/ranks.hpp"
 #include "clsph/simulation.hpp"
 #include "clsph/testing.hpp"
+#include "support/cut_schedules.hpp"
 #include "support/scenes.hpp"
 
 #include <mpi.h>
@@ -86,27 +90,22 @@ long differing(const State& a, const State& b) {
     for (const auto& [id, w] : a) {
         const auto it = b.find(id);
         if (it == b.end()) return -1;
-        n += std::memcmp(w.data(), it->second.data(), sizeof w) != 0;
+        const bool differs = std::memcmp(w.data(), it->second.data(), sizeof w) != 0;
+        if (differs && n < 3) {  // the first few, word by word (position, velocity, density)
+            std::string words;
+            for (std::size_t k = 0; k < w.size(); ++k)
+                if (std::memcmp(&w[k], &it->second[k], sizeof(double)) != 0)
+                    words += " [" + std::to_string(k) + "] " + std::to_string(w[k]) + " vs " + std::to_string(it->second[k]);
+            MESSAGE("particle " << id << " differs:" << words);
+        }
+        n += differs;
     }
     return n;
 }
 
-// Cuts that sweep back and forth a column or two every step (test_bitwise.cpp's), so particles
-// migrate across the rank boundary all the time.
-std::vector<std::size_t> sweeping(std::uint64_t step, std::size_t columns) {
-    const std::size_t D = static_cast<std::size_t>(ranks_in(*ranks));
-    std::vector<std::size_t> c(D + 1, 0);
-    c[D] = columns;
-    for (std::size_t d = 1; d < D; ++d) {
-        const std::size_t phase = (step * (d + 1) + d * columns / D) % (2 * columns);
-        c[d] = phase < columns ? phase : 2 * columns - phase;
-    }
-    std::sort(c.begin(), c.end());
-    return c;
-}
-
-// The scene on 2 ranks, then in one process on the node's 2 devices (rank 0), `steps` steps each.
-void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust) {
+// The scene on N ranks, then in one process on the node's N devices (rank 0), `steps` steps each.
+// With `same_cuts` (the cuts forced alike), their checkpoints must be the same too, array for array.
+void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust, bool same_cuts = false) {
     const int rank = rank_of(*ranks);
     Options o;
     adjust(o);
@@ -122,7 +121,8 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
     const State spread = gather_state(across, duplicates);
     CHECK(duplicates == 0);
     CHECK(spread.size() == across.info().particles);
-    std::vector<double> times{across.time()};
+    const Checkpoint saved = across.checkpoint();  // every rank's slabs, on every rank
+    CHECK(saved.size() == across.info().particles);
     if (rank == 0) {
         Options one;
         adjust(one);
@@ -135,8 +135,30 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
         const long d = differing(local_state(sim), spread);
         INFO("particles differing in any bit (-1: the ids differ): " << d);
         CHECK(d == 0);
+        if (same_cuts) {
+            const Checkpoint one_saved = sim.checkpoint();
+            CHECK(one_saved.counts == saved.counts);
+            CHECK(one_saved.cuts == saved.cuts);
+            CHECK(one_saved.id == saved.id);
+            CHECK(std::memcmp(one_saved.pos.data(), saved.pos.data(), 4 * saved.pos.size()) == 0);
+            CHECK(std::memcmp(one_saved.velrho.data(), saved.velrho.data(), 4 * saved.velrho.size()) == 0);
+            CHECK(std::memcmp(one_saved.accel.data(), saved.accel.data(), 4 * saved.accel.size()) == 0);
+        }
     }
     gentle_barrier();
+    // Restarted across the ranks from that checkpoint, 20 more steps: bitwise the run that went on.
+    Simulation again(scene, saved, o);
+    std::size_t dup_again = 0;
+    CHECK(differing(gather_state(again, dup_again), spread) == 0);
+    for (int i = 0; i < 20; ++i) {
+        across.step();
+        again.step();
+    }
+    CHECK(again.time() == across.time());
+    std::size_t dup_on = 0;
+    const long restarted = differing(gather_state(again, dup_again), gather_state(across, dup_on));
+    INFO("after the restart, particles differing in any bit (-1: the ids differ): " << restarted);
+    CHECK(restarted == 0);
 }
 
 }  // namespace
@@ -152,9 +174,9 @@ TEST_CASE("migration across the rank boundary: cuts forced to move every step, n
     s.fluids.front().velocity = {2.0, 0.0, 0.0};
     compare(s, 500, [](Options& o) {
         testing::Seams seams;
-        seams.cut_schedule = sweeping;
+        seams.cut_schedule = test::sweeping_cuts(static_cast<std::size_t>(ranks_in(*ranks)));
         testing::set_seams(o, seams);
-    });
+    }, true);
 }
 
 int main(int argc, char** argv) {

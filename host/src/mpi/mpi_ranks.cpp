@@ -35,8 +35,21 @@ private:
 
 class MpiRanks final : public Ranks {
 public:
-    MpiRanks(int& argc, char**& argv) : env_(argc, argv) {}
-    const multi::RankPlace& place() const override { return env_.place(); }
+    MpiRanks(int& argc, char**& argv) : env_(std::make_shared<mpi::Environment>(argc, argv)), comm_(env_->comm()) {}
+    // A duplicate of `comm` (errors returned, as the original's), freed with this object.
+    MpiRanks(std::shared_ptr<mpi::Environment> env, MPI_Comm comm) : env_(std::move(env)), comm_(comm), owns_comm_(true) {}
+    ~MpiRanks() override {
+        if (owns_comm_) MPI_Comm_free(&comm_);
+    }
+    MpiRanks(const MpiRanks&) = delete;
+    MpiRanks& operator=(const MpiRanks&) = delete;
+    const multi::RankPlace& place() const override { return env_->place(); }
+
+    std::shared_ptr<Ranks> fork() override {
+        MPI_Comm dup = MPI_COMM_NULL;
+        mpi::check(MPI_Comm_dup(comm_, &dup), "MPI_Comm_dup", "a communicator for a simulation");
+        return std::make_shared<MpiRanks>(env_, dup);
+    }
 
     void sum(std::vector<double>& v) override { reduce(v.data(), v.size(), MPI_DOUBLE, MPI_SUM, "sum"); }
     void sum(std::vector<std::uint64_t>& v) override { reduce(v.data(), v.size(), MPI_UINT64_T, MPI_SUM, "sum"); }
@@ -45,7 +58,7 @@ public:
     std::vector<std::uint64_t> gather_all(const std::vector<std::uint64_t>& mine) override {
         std::vector<std::uint64_t> all(mine.size() * static_cast<std::size_t>(size()));
         mpi::check(MPI_Allgather(mine.data(), count(mine.size()), MPI_UINT64_T, all.data(), count(mine.size()),
-                                 MPI_UINT64_T, env_.comm()),
+                                 MPI_UINT64_T, comm_),
                    "MPI_Allgather", "gathering the slabs' figures");
         return all;
     }
@@ -61,7 +74,7 @@ public:
         }
         std::string all(static_cast<std::size_t>(total), '\0');
         mpi::check(MPI_Allgatherv(mine.data(), count(mine.size()), MPI_CHAR, all.data(), counts.data(), at.data(), MPI_CHAR,
-                                  env_.comm()),
+                                  comm_),
                    "MPI_Allgatherv", "gathering text from the ranks");
         std::vector<std::string> out;
         for (std::size_t r = 0; r < counts.size(); ++r)
@@ -70,15 +83,15 @@ public:
     }
 
     void broadcast(std::vector<std::uint64_t>& v, int root) override {
-        mpi::check(MPI_Bcast(v.data(), count(v.size()), MPI_UINT64_T, root, env_.comm()), "MPI_Bcast",
+        mpi::check(MPI_Bcast(v.data(), count(v.size()), MPI_UINT64_T, root, comm_), "MPI_Bcast",
                    "broadcasting the cuts");
     }
 
     std::unique_ptr<multi::RemoteSendLink> sender(cl_rt::Device& device, int peer, int link) override {
-        return std::make_unique<MpiSend>(device, multi::MpiChannel{env_.comm(), peer, link});
+        return std::make_unique<MpiSend>(device, multi::MpiChannel{comm_, peer, link});
     }
     std::unique_ptr<multi::RemoteReceiveLink> receiver(cl_rt::Device& device, int peer, int link) override {
-        return std::make_unique<MpiReceive>(device, multi::MpiChannel{env_.comm(), peer, link});
+        return std::make_unique<MpiReceive>(device, multi::MpiChannel{comm_, peer, link});
     }
 
     [[noreturn]] void abort(int code, const std::string& message) const override { mpi::abort(code, message); }
@@ -90,10 +103,12 @@ private:
     }
     void reduce(void* data, std::size_t n, MPI_Datatype type, MPI_Op op, const char* what) {
         if (n == 0) return;
-        mpi::check(MPI_Allreduce(MPI_IN_PLACE, data, count(n), type, op, env_.comm()), "MPI_Allreduce",
+        mpi::check(MPI_Allreduce(MPI_IN_PLACE, data, count(n), type, op, comm_), "MPI_Allreduce",
                    std::string("the ") + what + " over the ranks");
     }
-    mpi::Environment env_;
+    std::shared_ptr<mpi::Environment> env_;
+    MPI_Comm comm_ = MPI_COMM_NULL;
+    bool owns_comm_ = false;
 };
 
 }  // namespace

@@ -37,6 +37,11 @@ public:
     virtual std::unique_ptr<multi::RemoteReceiveLink> receiver(cl_rt::Device& device, int peer, int link) = 0;
 
     [[noreturn]] virtual void abort(int code, const std::string& message) const = 0;
+
+    // The same ranks on a communicator of their own (collective: every rank calls it, in the same
+    // order): each Simulation's links and collectives then never meet another's, whose messages
+    // carry the same tags.
+    virtual std::shared_ptr<Ranks> fork() = 0;
 };
 
 }  // namespace clsph

@@ -29,11 +29,12 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     std::size_t first_here = 0;
     std::size_t D = devices.size();
     if (options_.ranks) {
-        ranks_.ranks = options_.ranks.get();
-        ranks_.rank = options_.ranks->rank();
-        const auto counts = options_.ranks->gather_all({static_cast<std::uint64_t>(devices.size())});
+        own_ranks_ = options_.ranks->fork();  // this run's own messages
+        ranks_.ranks = own_ranks_.get();
+        ranks_.rank = ranks_.ranks->rank();
+        const auto counts = own_ranks_->gather_all({static_cast<std::uint64_t>(devices.size())});
         D = 0;
-        for (int r = 0; r < options_.ranks->size(); ++r) {
+        for (int r = 0; r < ranks_.ranks->size(); ++r) {
             if (r < ranks_.rank) first_here += counts[static_cast<std::size_t>(r)];
             D += counts[static_cast<std::size_t>(r)];
             ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
@@ -120,7 +121,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     }
     if (across_ranks()) {  // every rank computed them alike; rank 0's are the ones
         std::vector<std::uint64_t> c(first.begin(), first.end());
-        options_.ranks->broadcast(c, 0);
+        ranks_.ranks->broadcast(c, 0);
         first.assign(c.begin(), c.end());
     }
     partition_.set_cuts(slabs_, first);
@@ -227,8 +228,8 @@ void SlabDriver::rebalance() {
     if (across_ranks()) {  // each column is counted by the one slab that owns it: sum over ranks
         std::vector<double> work = profile.work;
         std::vector<std::uint64_t> particles(profile.particles.begin(), profile.particles.end());
-        options_.ranks->sum(work);
-        options_.ranks->sum(particles);
+        ranks_.ranks->sum(work);
+        ranks_.ranks->sum(particles);
         profile.work = work;
         profile.particles.assign(particles.begin(), particles.end());
     }
@@ -246,7 +247,7 @@ void SlabDriver::rebalance() {
     auto decision = balancer_->step(samples, profile);
     if (across_ranks()) {  // the same inputs on every rank; rank 0's cuts are the ones
         std::vector<std::uint64_t> c(decision.cuts.begin(), decision.cuts.end());
-        options_.ranks->broadcast(c, 0);
+        ranks_.ranks->broadcast(c, 0);
         decision.cuts.assign(c.begin(), c.end());
     }
     if (log_) log_->write(steps_, samples, decision);
@@ -293,9 +294,9 @@ StepOutcome SlabDriver::reductions(cl_rt::EventSet& kicked) {
     if (across_ranks()) {
         // Maxima, sums, and the first slab with a bad value (its index there) over every rank.
         std::vector<double> m{out.kick.max_speed2, out.kick.max_accel2};
-        options_.ranks->max(m);
+        ranks_.ranks->max(m);
         std::vector<double> sums{out.kick.kinetic_energy};
-        options_.ranks->sum(sums);
+        ranks_.ranks->sum(sums);
         const std::size_t D = slabs_.size();
         std::vector<std::uint64_t> counts(1 + 2 * D, 0);
         counts[0] = static_cast<std::uint64_t>(out.kick.fluid);
@@ -303,7 +304,7 @@ StepOutcome SlabDriver::reductions(cl_rt::EventSet& kicked) {
             counts[1 + 2 * out.bad_slab] = 1;
             counts[2 + 2 * out.bad_slab] = static_cast<std::uint64_t>(out.kick.bad_index);
         }
-        options_.ranks->sum(counts);
+        ranks_.ranks->sum(counts);
         out.kick.max_speed2 = m[0];
         out.kick.max_accel2 = m[1];
         out.kick.kinetic_energy = sums[0];
@@ -329,8 +330,8 @@ void SlabDriver::gather_figures() {
         counts[2 * d] = slabs_[d].store->ranges.owned;
         counts[2 * d + 1] = figures_[d].global_memory;
     }
-    options_.ranks->sum(seconds);
-    options_.ranks->sum(counts);
+    ranks_.ranks->sum(seconds);
+    ranks_.ranks->sum(counts);
     for (std::size_t d = 0; d < D; ++d) {
         figures_[d] = {seconds[d], static_cast<std::size_t>(counts[2 * d]), static_cast<std::size_t>(counts[2 * d + 1])};
         slabs_[d].force_seconds = seconds[d];
@@ -411,7 +412,7 @@ std::vector<std::array<float, 2>> SlabDriver::probe(const std::vector<std::array
     if (across_ranks()) {  // each point was evaluated on one rank: the others' are zeros
         std::vector<double> v(2 * out.size());
         for (std::size_t i = 0; i < out.size(); ++i) v[2 * i] = out[i][0], v[2 * i + 1] = out[i][1];
-        options_.ranks->sum(v);
+        ranks_.ranks->sum(v);
         for (std::size_t i = 0; i < out.size(); ++i) out[i] = {static_cast<float>(v[2 * i]), static_cast<float>(v[2 * i + 1])};
     }
     return out;

@@ -123,6 +123,7 @@ private:
     std::unique_ptr<DeviceThreads> threads_;  // several devices: started at the first use
     std::unique_ptr<Exchange> exchange_;
     RankMap ranks_;
+    std::shared_ptr<Ranks> own_ranks_;  // across ranks: a communicator of this run's own
     // Across ranks, every slab's figures the balancer reads (gathered after each step).
     struct SlabFigures { double force_seconds = 0; std::size_t owned = 0, global_memory = 0; };
     std::vector<SlabFigures> figures_;
