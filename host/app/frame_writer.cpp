@@ -57,9 +57,11 @@ void FrameWriter::resume_at(const std::vector<PvdEntry>& before, double time) {
     // Before any submit(): the writer thread has not touched the collection yet.
     std::lock_guard<std::mutex> lock(mutex_);
     const double eps = 1e-9 * std::max(1.0, std::abs(time));
+    // Across ranks the collection is rank 0's to write; the others only count its frames.
+    const bool writes_collection = !format_.ranks || rank_of(*format_.ranks) == 0;
     for (const auto& e : before) {
         if (e.time > time + eps) break;
-        pvd_.add(e.time, e.file);
+        if (writes_collection) pvd_.add(e.time, e.file);
         ++submitted_;
         ++written_;
         last_time_ = e.time;

@@ -20,7 +20,7 @@ Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const Op
       faults_(std::make_unique<FaultInjector>(options.faults)),
       memory_(context_, label_, static_cast<std::size_t>(info_.global_memory),
               static_cast<std::size_t>(info_.max_allocation), faults_.get()),
-      programs_(context_, device_, label_, faults_.get()),
+      programs_(context_, device_, label_, faults_.get(), quirks_.build_salt),
       profiler_(quirks_.fake_event_timestamps) {
     cl_int err = CL_SUCCESS;
     // Queues always allow profiling (its cost is negligible on the drivers we know), so timing can

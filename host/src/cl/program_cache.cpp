@@ -9,12 +9,17 @@
 
 namespace clsph::cl_rt {
 
-ProgramCache::ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults)
-    : context_(std::move(context)), device_(std::move(device)), label_(std::move(device_label)), faults_(faults) {}
+ProgramCache::ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults,
+                           std::string salt)
+    : context_(std::move(context)),
+      device_(std::move(device)),
+      label_(std::move(device_label)),
+      salt_(std::move(salt)),
+      faults_(faults) {}
 
 cl::Program& ProgramCache::program(const std::string& file, const std::string& options) {
     const std::string source = kernel_source(file);
-    const std::string full_options = "-cl-std=CL1.2 " + options;
+    const std::string full_options = "-cl-std=CL1.2 " + options + (salt_.empty() ? "" : " " + salt_);
     const std::string key = file + "|" + std::to_string(std::hash<std::string>{}(source)) + "|" + full_options;
     if (auto it = programs_.find(key); it != programs_.end()) return it->second;
 

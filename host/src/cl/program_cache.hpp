@@ -11,7 +11,9 @@ class FaultInjector;
 
 class ProgramCache {
 public:
-    ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults = nullptr);
+    // `salt`: options appended to every build on this device (Quirks::build_salt).
+    ProgramCache(cl::Context context, cl::Device device, std::string device_label, FaultInjector* faults = nullptr,
+                 std::string salt = {});
     // Builds kernels/<file> with "-cl-std=CL1.2 <options>" (once per distinct source+options) and
     // returns a fresh kernel object (kernels hold their arguments, so each user gets its own).
     // A build failure throws BuildError with the file, options, device and full build log.
@@ -23,6 +25,7 @@ private:
     cl::Context context_;
     cl::Device device_;
     std::string label_;
+    std::string salt_;
     FaultInjector* faults_;
     std::map<std::string, cl::Program> programs_;
 };

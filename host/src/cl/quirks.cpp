@@ -29,6 +29,8 @@ Quirks quirks_for(const DeviceInfo& info) {
     q.atomic_min_unreliable = rusticl;
     q.late_transfer_callbacks = nvidia;
     if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
+    const bool pocl = contains_ci(info.platform, "portable computing language") || contains_ci(info.platform, "pocl");
+    if (pocl) q.build_salt = "-DCLSPH_POCL_DEVICE=" + std::to_string(info.index);
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).
     const std::size_t reported = static_cast<std::size_t>(info.local_memory);

@@ -37,6 +37,14 @@ struct Quirks {
     // (36.95 vs 48.82 ms/step; BENCHMARKS.md). Where set, EventSet polls the events' status with
     // short sleeps instead (clWaitForEvents is on time too, but spins a core).
     bool late_transfer_callbacks = false;
+    // pocl 3.1 (Debian 12): two pocl CPU devices of one kind in one process share each kernel's
+    // compiled library, and running it on both at once breaks pocl's count of its users: the
+    // process stops in pocl's own assertion (`pocl_release_dlhandle_cache: found->ref_count > 0`).
+    // Two basic devices stop there within a few steps of the dam break, every time (the binary
+    // before this change too); three pthread devices did once in a CI run's render test. A define
+    // naming the device gives each pocl device its own binaries, so nothing is shared. Appended
+    // to every kernel build on that device.
+    std::string build_salt;
 
     // --- found while speeding up the interaction pass (issue 12) ---
     // Build options for the interaction kernels only. NVIDIA (driver 580.159.04, H200): capping the
