@@ -254,6 +254,20 @@ void Simulation::Impl::restore(const Checkpoint& c) {
     last_good_time = c.time;
 }
 
+namespace {
+// Room for the next slab's n particles at the end of c's arrays (its count recorded); returns
+// where they start.
+std::size_t grow_for_slab(Checkpoint& c, std::size_t n) {
+    const std::size_t at = c.size();
+    c.counts.push_back(n);
+    c.pos.resize(4 * (at + n));
+    c.velrho.resize(4 * (at + n));
+    c.accel.resize(4 * (at + n));
+    c.id.resize(at + n);
+    return at;
+}
+}  // namespace
+
 Checkpoint Simulation::checkpoint() {
     auto& m = *impl_;
     if (!m.in_flight.empty())
@@ -280,12 +294,7 @@ Checkpoint Simulation::checkpoint() {
         for (auto& s : m.driver->slabs()) {
             auto& d = *s.device;
             auto& st = *s.store;
-            const std::size_t n = st.ranges.owned, first = st.ranges.first_owned(), at = c.size();
-            c.counts.push_back(n);
-            c.pos.resize(4 * (at + n));
-            c.velrho.resize(4 * (at + n));
-            c.accel.resize(4 * (at + n));
-            c.id.resize(at + n);
+            const std::size_t n = st.ranges.owned, first = st.ranges.first_owned(), at = grow_for_slab(c, n);
             if (n == 0) continue;
             d.read(st.pos, c.pos.data() + 4 * at, 4 * n, 4 * first);
             d.read(st.velrho, c.velrho.data() + 4 * at, 4 * n, 4 * first);
@@ -345,12 +354,7 @@ void Simulation::Impl::checkpoint_across_ranks(Checkpoint& c) {
             k += 16 + 52 * n;
         }
     for (const auto& part : parts) {
-        const std::size_t at = c.size(), n = part.n;
-        c.counts.push_back(n);
-        c.pos.resize(4 * (at + n));
-        c.velrho.resize(4 * (at + n));
-        c.accel.resize(4 * (at + n));
-        c.id.resize(at + n);
+        const std::size_t n = part.n, at = grow_for_slab(c, n);
         if (n == 0) continue;
         std::memcpy(c.pos.data() + 4 * at, part.at, 16 * n);
         std::memcpy(c.velrho.data() + 4 * at, part.at + 16 * n, 16 * n);

@@ -73,6 +73,21 @@ std::map<std::uint32_t, std::array<double, 4>> by_id(const Particles& p, std::si
     return m;
 }
 
+// Whether two frames (a .pvtu's pieces or a .vtu) hold the same particles, each once, bit for bit.
+bool same_frame(const std::string& a_path, const std::string& b_path) {
+    std::size_t dup_a = 0, dup_b = 0;
+    const auto a = by_id(read_vtu(a_path), dup_a);
+    const auto b = by_id(read_vtu(b_path), dup_b);
+    std::size_t differ = 0;
+    for (const auto& [id, x] : b) {
+        const auto it = a.find(id);
+        differ += it == a.end() || std::memcmp(it->second.data(), x.data(), sizeof x) != 0;
+    }
+    MESSAGE(a_path << ": " << a.size() << " particles (" << dup_a << " duplicated), " << b_path << ": " << b.size()
+                   << " (" << dup_b << "), " << differ << " missing or differing");
+    return dup_a == 0 && dup_b == 0 && a.size() == b.size() && differ == 0;
+}
+
 nlohmann::json read_json(const std::string& path) {
     std::ifstream f(path);
     return nlohmann::json::parse(f);
@@ -97,18 +112,7 @@ TEST_CASE("mpirun -np 2 clsph run: the pieces hold every particle once, bitwise 
     REQUIRE(fs::exists(index));
     const auto sources = read_pvtu_sources(index);
     CHECK(sources == std::vector<std::string>{"frame_00001_p0.vtu", "frame_00001_p1.vtu"});
-    std::size_t dup_a = 0, dup_b = 0;
-    const auto a = by_id(read_vtu(index), dup_a);
-    const auto b = by_id(read_vtu(one + "/frame_00001.vtu"), dup_b);
-    CHECK(dup_a == 0);
-    CHECK(dup_b == 0);
-    REQUIRE(a.size() == b.size());
-    std::size_t differ = 0;
-    for (const auto& [id, x] : b) {
-        const auto it = a.find(id);
-        differ += it == a.end() || std::memcmp(it->second.data(), x.data(), sizeof x) != 0;
-    }
-    CHECK(differ == 0);
+    CHECK(same_frame(index, one + "/frame_00001.vtu"));
     // Rank 0's files: the collection names the index; stats and run.json list every rank.
     const auto frames = read_pvd(across + "/dam_break.pvd");
     REQUIRE(frames.size() == 2);
@@ -138,17 +142,7 @@ TEST_CASE("across ranks: a checkpoint at the end, and clsph resume across the ra
     REQUIRE(!frames.empty());
     REQUIRE(!frames1.empty());
     CHECK(frames.back().time == frames1.back().time);
-    std::size_t dup_a = 0, dup_b = 0;
-    const auto a = by_id(read_vtu(across + "/" + frames.back().file), dup_a);
-    const auto b = by_id(read_vtu(one + "/" + frames1.back().file), dup_b);
-    CHECK(dup_a == 0);
-    REQUIRE(a.size() == b.size());
-    std::size_t differ = 0;
-    for (const auto& [id, x] : b) {
-        const auto it = a.find(id);
-        differ += it == a.end() || std::memcmp(it->second.data(), x.data(), sizeof x) != 0;
-    }
-    CHECK(differ == 0);
+    CHECK(same_frame(across + "/" + frames.back().file, one + "/" + frames1.back().file));
     CHECK(cli_test::read_text(across + "/stats.csv") == cli_test::read_text(one + "/stats.csv"));
     const auto j = read_json(across + "/run.json");
     CHECK(j.at("resumes").size() == 1);
