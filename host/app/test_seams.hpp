@@ -3,10 +3,8 @@
 // and the test-only `clsph-faulty` (built with CLSPH_BUILD_TESTS, never installed) with
 // test_seams.cpp, whose add_test_seams reads it. Tests that inject failures run clsph-faulty.
 #pragma once
+#include <clsph/options.hpp>
 
-namespace clsph {
-struct Options;
-}
 namespace clsph::app {
 
 // Adds the test build's seams to a run's options; throws clsph::Error for a malformed setting.

@@ -1,4 +1,4 @@
-// The MPI link between two ranks (multi/mpi_link.hpp), run by mpiexec with 2 ranks: rank 0 fills
+// The MPI link between two ranks (mpi/link.hpp), run by mpiexec with 2 ranks: rank 0 fills
 // random particles on its OpenCL device and sends random contiguous ranges (n = 0 and all of them
 // among them); rank 1 receives them into poisoned arrays at random offsets and checks every word
 // bitwise against the same random data, regenerated from the seed, and that nothing outside the
@@ -27,7 +27,7 @@
 #include "device/particle_arrays.hpp"
 #include "mpi/environment.hpp"
 #include "mpi/messages.hpp"
-#include "multi/mpi_link.hpp"
+#include "mpi/link.hpp"
 
 using namespace clsph;
 using device::ParticleArrays;

@@ -8,7 +8,7 @@
 #include "clsph/devices.hpp"
 #include "clsph/particles.hpp"
 #include "clsph/scene.hpp"
-#include "clsph/simulation.hpp"
+#include "clsph/options.hpp"
 
 #include <cstddef>
 #include <string>

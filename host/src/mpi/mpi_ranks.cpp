@@ -3,7 +3,7 @@
 #include "clsph/error.hpp"
 #include "clsph/ranks.hpp"
 #include "mpi/environment.hpp"
-#include "multi/mpi_link.hpp"
+#include "mpi/link.hpp"
 #include "multi/ranks.hpp"
 
 namespace clsph {

@@ -23,7 +23,7 @@ public:
     virtual std::size_t count() const = 0;
 };
 
-// The halves of a link between slabs on two ranks (clsph/ranks.hpp; MPI: mpi_link.hpp), as the
+// The halves of a link between slabs on two ranks (clsph/ranks.hpp; MPI: mpi/link.hpp), as the
 // exchange uses them. The sender sends every step, n = 0 included, so the receiver always learns
 // its count: send() posts the count and enqueues the device read; post() sends the particles once
 // read. The receiver's wait_count() blocks until the count has come; receive() until the particles

@@ -1,4 +1,4 @@
-#include "multi/mpi_link.hpp"
+#include "mpi/link.hpp"
 
 #include "cl/errors.hpp"
 #include "clsph/error.hpp"

@@ -1,9 +1,10 @@
 // Seams for tests and benchmarks, not for applications: they make a run misbehave on purpose (a
 // slow device, a device that fails, cuts forced from outside) so the code that copes with it can
-// be checked. Set them on Options through clsph::testing::set_seams.
+// be checked. Set them on Options through clsph::testing::set_seams. Not installed: host/testing/
+// is on the include path of the library and of the clsph_testing target (tests, benchmarks).
 #pragma once
 #include "clsph/fault.hpp"
-#include "clsph/simulation.hpp"
+#include "clsph/options.hpp"
 
 #include <cstdint>
 #include <functional>
