@@ -13,6 +13,7 @@
 
 #include <unistd.h>  // isatty
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <iostream>
