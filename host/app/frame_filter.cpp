@@ -2,6 +2,7 @@
 
 #include <clsph/error.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -20,6 +21,13 @@ FrameFilter FrameFilter::from_options(std::size_t stride, const std::vector<doub
         f.box = std::array<double, 6>{box[0], box[1], box[2], box[3], box[4], box[5]};
     }
     return f;
+}
+
+ParticleSelection FrameFilter::device_selection() const {
+    ParticleSelection s;
+    s.stride = static_cast<std::uint32_t>(std::min<std::size_t>(stride, 0xffffffffu));
+    s.box = box;
+    return s;
 }
 
 bool FrameFilter::keeps(std::uint32_t id, const std::array<double, 3>& x) const {

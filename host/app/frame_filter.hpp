@@ -4,6 +4,7 @@
 #pragma once
 #include <clsph/io.hpp>
 #include <clsph/particles.hpp>
+#include <clsph/simulation.hpp>
 
 #include <array>
 #include <cstddef>
@@ -21,6 +22,8 @@ struct FrameFilter {
     // From the options' values; throws clsph::Error naming the option when one is unusable.
     static FrameFilter from_options(std::size_t stride, const std::vector<double>& box, const std::string& fields = "all");
     bool keeps_all() const { return stride == 1 && !box; }
+    // What the devices select for a frame, so only its particles come to the host.
+    ParticleSelection device_selection() const;
     bool keeps(std::uint32_t id, const std::array<double, 3>& x) const;
     Particles apply(Particles p) const;
 };

@@ -1,11 +1,11 @@
 #include "make_simulation.hpp"
 
+#include "test_seams.hpp"
+
 #include <clsph/checkpoint.hpp>
 #include <clsph/error.hpp>
-#include <clsph/testing.hpp>
 
 #include <chrono>
-#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 
@@ -27,14 +27,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (s > 2.0) std::cout << "  set-up, " << std::fixed << std::setprecision(1) << s << std::defaultfloat << " s: " << line << std::endl;
     };
-    // Tests (tests/cli): CLSPH_TEST_FAULT=CALL:N[:DEVICE] makes the Nth OpenCL call of that kind
-    // (enqueue, allocation, read, build) on that device fail in the runtime layer, as a driver
-    // would fail it, so the whole error path runs as for a real failure (clsph/testing.hpp).
-    if (const char* v = std::getenv("CLSPH_TEST_FAULT")) {
-        testing::Seams seams;
-        seams.faults.push_back(testing::parse_fault(v, "CLSPH_TEST_FAULT"));
-        testing::set_seams(opts, std::move(seams));
-    }
+    if (args.test_seams) add_test_seams(opts);  // only clsph-faulty has any (test_seams.hpp)
     return with_scene_path(args, [&] {
         return checkpoint ? std::make_unique<Simulation>(scene, *checkpoint, opts) : std::make_unique<Simulation>(scene, opts);
     });

@@ -1,8 +1,9 @@
-#include <algorithm>
 #include "output_dir.hpp"
 
 #include <clsph/error.hpp>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <system_error>
 #include <vector>
@@ -73,6 +74,17 @@ std::vector<std::pair<std::uint64_t, std::string>> list_checkpoints(const std::s
     }
     std::sort(out.begin(), out.end());
     return out;
+}
+
+std::string checkpoint_path(const std::string& dir, std::uint64_t step) {
+    char name[64];
+    std::snprintf(name, sizeof name, "checkpoint_%05llu.clsph", static_cast<unsigned long long>(step));
+    return dir + "/" + name;
+}
+
+void remove_old_checkpoints(const std::string& dir, std::size_t keep) {
+    const auto all = list_checkpoints(dir);
+    for (std::size_t i = 0; i + keep < all.size(); ++i) std::remove(all[i].second.c_str());
 }
 
 }  // namespace clsph::app

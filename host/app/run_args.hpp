@@ -49,6 +49,14 @@ struct RunArgs {
     std::string resume_dir;
     std::vector<std::string> resume_command_line;  // the resume's own argv (run.json "resumes")
     std::string resume_reason;                     // why (run.json "resumes"): empty for clsph resume
+    // The test build's seams (test_seams.hpp; clsph-faulty, never the shipped clsph) apply to this
+    // run. Off after a failover, whose failure was the injected fault: the devices left run clean.
+    bool test_seams = true;
+
+    // Any of --surface, --surface-every, --surface-ply, --surface-spacing, --render, --video.
+    bool wants_surface() const {
+        return surface || surface_every || surface_ply || surface_spacing > 0 || render || video;
+    }
 };
 
 // The most steps --steps takes (a run of 10^12 steps is years on any machine; more is a typo).

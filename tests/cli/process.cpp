@@ -66,15 +66,27 @@ int Process::wait(double timeout_s) {
     return -WTERMSIG(status);
 }
 
-int run(const std::vector<std::string>& args, std::string& output, double timeout_s) {
+namespace {
+
+int run_tool(const std::string& program, const std::vector<std::string>& args, std::string& output, double timeout_s) {
     const std::string log = std::string(CLSPH_CLI_WORK) + "/last_command.log";
     int code = 0;
     {
-        Process p(CLSPH_CLI, args, log);
+        Process p(program, args, log);
         code = p.wait(timeout_s);
     }
     output = read_text(log);
     return code;
+}
+
+}  // namespace
+
+int run(const std::vector<std::string>& args, std::string& output, double timeout_s) {
+    return run_tool(CLSPH_CLI, args, output, timeout_s);
+}
+
+int run_faulty(const std::vector<std::string>& args, std::string& output, double timeout_s) {
+    return run_tool(CLSPH_FAULTY_CLI, args, output, timeout_s);
 }
 
 std::string read_text(const std::string& path) {

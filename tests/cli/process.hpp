@@ -24,8 +24,12 @@ private:
     pid_t pid_ = -1;
 };
 
-// Runs to the end; returns the exit status (as Process::wait) and the output.
+// Runs the shipped tool (CLSPH_CLI) to the end; returns the exit status (as Process::wait) and
+// the output.
 int run(const std::vector<std::string>& args, std::string& output, double timeout_s = 120.0);
+// The same with the test build of the tool (CLSPH_FAULTY_CLI: clsph-faulty, which reads
+// CLSPH_TEST_FAULT; the shipped clsph ignores it).
+int run_faulty(const std::vector<std::string>& args, std::string& output, double timeout_s = 120.0);
 
 std::string read_text(const std::string& path);
 

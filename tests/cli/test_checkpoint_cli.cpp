@@ -156,7 +156,7 @@ TEST_CASE("three devices, a device failing mid-run: continue finishes on two, st
         const std::string out = work_dir("failover_continue");
         ::setenv("CLSPH_TEST_FAULT", "enqueue:300:1", 1);
         std::string log;
-        const int code = run(args({{"run", scene}, tiny, common, {"--out", out, "--on-device-failure", "continue"}}), log);
+        const int code = run_faulty(args({{"run", scene}, tiny, common, {"--out", out, "--on-device-failure", "continue"}}), log);
         ::unsetenv("CLSPH_TEST_FAULT");
         INFO(log);
         REQUIRE(code == 0);
@@ -181,7 +181,7 @@ TEST_CASE("three devices, a device failing mid-run: continue finishes on two, st
         const std::string out = work_dir("failover_stop");
         ::setenv("CLSPH_TEST_FAULT", "enqueue:300:1", 1);
         std::string log;
-        const int code = run(args({{"run", scene}, tiny, common, {"--out", out}}), log);
+        const int code = run_faulty(args({{"run", scene}, tiny, common, {"--out", out}}), log);
         ::unsetenv("CLSPH_TEST_FAULT");
         CHECK(code == 3);
         CHECK(read_json(out + "/run.json").at("status") == "failed");

@@ -259,3 +259,37 @@ TEST_CASE("bad input: exit 1, a message naming the file and key, no output direc
         CHECK_FALSE(fs::exists(out));
     }
 }
+
+TEST_CASE("clsph run --help: exit 0, the options grouped by topic, each saying its default") {
+    std::string help;
+    const int code = run({"run", "--help"}, help);
+    INFO(help);
+    REQUIRE(code == 0);
+    std::size_t at = 0;
+    for (const char* group : {"Scene", "Devices", "Time and steps", "Output", "Images and surfaces",
+                              "Checkpoints and failures", "Balance and profiling", "MPI"}) {
+        CAPTURE(group);
+        const auto found = help.find("\n" + std::string(group) + ":\n", at);
+        REQUIRE(found != std::string::npos);  // listed, and after the groups before it
+        at = found;
+    }
+    // Each option's entry (its line, and the lines its description wraps onto) says its default.
+    std::istringstream lines(help);
+    std::vector<std::string> entries;
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("  -", 0) == 0)
+            entries.push_back(line);
+        else if (!entries.empty() && line.rfind("    ", 0) == 0)
+            entries.back() += line;
+        else if (!entries.empty() && line.empty())
+            entries.emplace_back();  // a blank line ends the entry
+    }
+    std::size_t options = 0;
+    for (const auto& e : entries) {
+        if (e.empty() || e.find("--help") != std::string::npos) continue;
+        CAPTURE(e);
+        CHECK(e.find("default") != std::string::npos);
+        ++options;
+    }
+    CHECK(options >= 20);  // the entries were found (29 options when this was written)
+}

@@ -1,6 +1,7 @@
 // Real OpenCL failures, injected in the runtime layer (CLSPH_TEST_FAULT: the Nth launch, allocation,
 // read or build on a device fails with the driver's error code), on one device and on every device
 // there is: the exit status, the message, last_good.vtu and run.json are what the README says.
+// The faults go to clsph-faulty, the test build of the tool; the shipped clsph has no such hook.
 #include "support.hpp"
 
 #include <doctest/doctest.h>
@@ -21,7 +22,7 @@ Faulted run_with_fault(const std::string& fault, const std::string& devices, con
     ::setenv("CLSPH_TEST_FAULT", fault.c_str(), 1);
     Faulted r;
     // Frames every 0.0005 s, so frames were downloaded before the failure.
-    r.code = run(args({{"run", scene}, tiny, {"--devices", devices, "--until", "0.01", "--every", "0.0005", "--out", out}, more}), r.log);
+    r.code = run_faulty(args({{"run", scene}, tiny, {"--devices", devices, "--until", "0.01", "--every", "0.0005", "--out", out}, more}), r.log);
     ::unsetenv("CLSPH_TEST_FAULT");
     return r;
 }
@@ -123,11 +124,31 @@ TEST_CASE("a malformed CLSPH_TEST_FAULT is an error, not ignored") {
         const std::string out = work_dir("fault_bad");
         std::string log;
         ::setenv("CLSPH_TEST_FAULT", bad, 1);
-        const int code = run(args({{"run", scene}, tiny, {"--steps", "2", "--out", out}}), log);
+        const int code = run_faulty(args({{"run", scene}, tiny, {"--steps", "2", "--out", out}}), log);
         ::unsetenv("CLSPH_TEST_FAULT");
         INFO(log);
         CHECK(code == 1);
         CHECK(log.find("clsph: error: CLSPH_TEST_FAULT: expected CALL:N") != std::string::npos);
         CHECK_FALSE(fs::exists(out));
+    }
+}
+
+TEST_CASE("the shipped clsph ignores CLSPH_TEST_FAULT; only the test build clsph-faulty reads it") {
+    // The fault that fails a run in the test build above (exit 3), and one that does not parse.
+    const std::string fault_out = work_dir("fault_faulty_build");
+    const auto faulted = run_with_fault("enqueue:200", "0", fault_out);
+    INFO(faulted.log);
+    REQUIRE(faulted.code == 3);
+    for (const char* fault : {"enqueue:200", "seven"}) {
+        CAPTURE(fault);
+        const std::string out = work_dir("fault_shipped");
+        std::string log;
+        ::setenv("CLSPH_TEST_FAULT", fault, 1);
+        const int code = run(args({{"run", scene}, tiny, {"--devices", "0", "--until", "0.01", "--every", "0.0005", "--out", out}}), log);
+        ::unsetenv("CLSPH_TEST_FAULT");
+        INFO(log);
+        CHECK(code == 0);
+        CHECK(log.find("CLSPH_TEST_FAULT") == std::string::npos);
+        CHECK(read_json(out + "/run.json").at("status") == "completed");
     }
 }

@@ -73,7 +73,7 @@ TEST_CASE("clsph run --render and clsph render: a PNG per surface, a note or a v
     REQUIRE(code == 0);
     const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
     for (std::size_t i = 0; i < frames.size(); ++i) {
-        char name[32];
+        char name[48];  // room for any size_t: no -Wformat-truncation
         std::snprintf(name, sizeof name, "/render_%05zu.png", i);
         const clsph::Image im = clsph::read_png(out + name);
         CHECK(im.width == 320);

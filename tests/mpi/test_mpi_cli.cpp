@@ -151,12 +151,13 @@ TEST_CASE("across ranks: a checkpoint at the end, and clsph resume across the ra
 TEST_CASE("a rank whose device fails stops every rank with that rank's message and a non-zero status") {
     const std::string out = work_dir("mpi_fault");
     const std::vector<std::string> run = join({"run", scene}, join(tiny, {"--until", "0.5", "--out", out}));
-    // Two application contexts: rank 1 alone gets the fault (its 400th kernel launch fails).
+    // Two application contexts: rank 1 alone gets the fault (its 400th kernel launch fails), and
+    // runs the test build of the tool (clsph-faulty: the shipped clsph ignores CLSPH_TEST_FAULT).
     std::vector<std::string> a = {CLSPH_MPIEXEC_NUMPROC_FLAG, "1"};
     for (const char* f : CLSPH_MPIEXEC_FLAGS) a.push_back(f);
     a.push_back(CLSPH_CLI);
     a.insert(a.end(), run.begin(), run.end());
-    a.insert(a.end(), {":", CLSPH_MPIEXEC_NUMPROC_FLAG, "1", "env", "CLSPH_TEST_FAULT=enqueue:400", CLSPH_CLI});
+    a.insert(a.end(), {":", CLSPH_MPIEXEC_NUMPROC_FLAG, "1", "env", "CLSPH_TEST_FAULT=enqueue:400", CLSPH_FAULTY_CLI});
     a.insert(a.end(), run.begin(), run.end());
     std::string log;
     const auto t0 = std::chrono::steady_clock::now();
