@@ -21,6 +21,7 @@ struct DeviceInfo {
     std::uint64_t max_allocation = 0; // bytes
     std::uint64_t local_memory = 0;   // bytes
     std::size_t max_work_group_size = 0;
+    bool fp64 = false;                // cl_khr_fp64: the step ahead's clock (docs/multi_device.md)
     bool is_gpu() const { return type == "gpu"; }
     bool is_cpu() const { return type == "cpu"; }
 };

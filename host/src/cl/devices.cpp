@@ -106,6 +106,7 @@ std::vector<DeviceInfo> list_devices() {
             info.max_allocation = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
             info.local_memory = d.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
             info.max_work_group_size = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+            info.fp64 = d.getInfo<CL_DEVICE_EXTENSIONS>().find("cl_khr_fp64") != std::string::npos;  // as physics.cpp decides
             out.push_back(std::move(info));
         }
     }

@@ -518,8 +518,10 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
 
     const bool mdbc = scene.boundary_method == BoundaryMethod::mdbc;
     const std::size_t probe_points = scene.probes.empty() ? 0 : probes::sample_points(scene).points.size();
+    // The step ahead as Simulation decides it (multi/slab_driver.hpp can_step_ahead(): one slab,
+    // a device with cl_khr_fp64 for the clock, Leap-frog).
     const bool ahead = D == 1 && !options.synchronous && options.steps_ahead > 0 &&
-                       scene.physics.integrator != Integrator::symplectic;
+                       scene.physics.integrator != Integrator::symplectic && !devices.empty() && devices[0].fp64;
 
     // Every buffer of device d with stores of `cap` particles.
     auto buffers_of = [&](std::size_t d, std::size_t cap, std::size_t edge, std::size_t sorted) {
@@ -562,7 +564,7 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
         add("failure flag", u32, false);
         add("time step", sizeof(float), false);
         add("halt flag", u32, false);
-        add("step clock", 4 * sizeof(double), false);  // with cl_khr_fp64
+        if (x.device.fp64) add("step clock", 4 * sizeof(double), false);  // physics.cpp: with cl_khr_fp64 only
         // physics.cpp set_ghost_nodes(): every device holds every boundary particle's, by id.
         if (mdbc) add("mDBC ghost nodes", (any_boundary ? max_boundary_id + std::size_t{1} : 1) * f4);
         // exchange.cpp: the boxes particles leave and arrive in (1024 at least, on one device too).

@@ -216,20 +216,20 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     for (bool left : {true, false})
         for (std::size_t d = 0; d < slabs_.size(); ++d) {
             if (d == e || (d < e) != left) continue;
-            std::size_t n = 0;
+            std::size_t got = 0;
             if (remote_pair(d, e)) {
                 auto& l = *remote_receive_.at({d, e});
                 l.receive(s.inbox, to, written);
-                n = l.count();
+                got = l.count();
             } else {
                 const auto b = std::find_if(blocks.begin(), blocks.end(), [&](const Block& x) { return x.d == d && x.e == e; });
                 if (b == blocks.end()) continue;
                 Link& l = *links_.at({d, e});
                 l.receive(s.inbox, to, written);
-                n = l.count();
+                got = l.count();
             }
-            to += n;
-            s.received_bytes += n * device::ParticleArrays::kBytesPerParticle;
+            to += got;
+            s.received_bytes += got * device::ParticleArrays::kBytesPerParticle;
         }
     dev.barrier(written);
     const device::KeyRange keys = partition_.keys_of(need_[e]);

@@ -9,6 +9,7 @@
 #include "balance/balancer.hpp"
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "clsph/checkpoint.hpp"
 #include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
 #include "clsph/testing.hpp"
@@ -84,6 +85,14 @@ public:
     void drop_left(std::size_t n) { slabs_[0].store->ranges.owned -= n; }
     std::size_t cell_capacity() const { return slabs_[0].cells->cell_capacity(); }
     std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
+
+    // A checkpoint's slab arrays (multi/slab_state.cpp): every slab's owned particles appended to
+    // c in slab order (across ranks gathered from every rank: collective), and put back over the
+    // owned particles the first pass sorted (by id where the split differs from the saved one).
+    void save_owned(Checkpoint& c);
+    void restore_owned(const Checkpoint& c);
+    // Throws clsph::Error naming `what` (a plural: "free surfaces") across MPI ranks.
+    void one_process(const char* what) const;
 
     const SphParams& params() const {  // the same on every slab: this rank's first
         for (std::size_t d = 0; d < slabs_.size(); ++d)

@@ -81,7 +81,11 @@ double water_height(const Sums* line, std::size_t count, double z0, double dz) {
         const double f_lo = line[k - 1][0], f_hi = line[k][0];
         if (f_lo >= 0.5 && f_hi < 0.5) return z0 + dz * (static_cast<double>(k - 1) + (f_lo - 0.5) / (f_lo - f_hi));
     }
-    return nan;
+    // Dry (the fraction never reaches 1/2): no water, 0 rather than a NaN in the probe files.
+    // Full to the top of the line: no surface to read.
+    bool wet = false;
+    for (std::size_t k = 0; k < count && !wet; ++k) wet = line[k][0] >= 0.5;
+    return wet ? nan : 0.0;
 }
 
 double face_pressure(const Sums* points, std::size_t count) {

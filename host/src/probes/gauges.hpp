@@ -37,8 +37,8 @@ std::vector<Vec3> face_points(const Probe& probe, double dp);
 Points sample_points(const Scene& scene);
 
 // Water height on one line of fluid fractions f[k] at z0 + k dz: walking up from the bottom, the
-// first z where f falls from >= 1/2 to < 1/2, linearly interpolated. NaN when the column never
-// reaches 1/2 (dry) or never falls below it again (full to the domain's top).
+// first z where f falls from >= 1/2 to < 1/2, linearly interpolated. 0 when the column never
+// reaches 1/2 (dry); NaN when it never falls below it again (full to the domain's top).
 double water_height(const Sums* line, std::size_t count, double z0, double dz);
 
 // Mean of the Shepard-normalised pressures (sum pVW / sum VW) of the points with fluid around

@@ -281,6 +281,10 @@ LatticePlan LatticePlan::make(const Scene& scene) {
         (piece.fluid ? plan.fluid_count : plan.boundary_count) += piece.count;
         if (piece.fluid && piece.count == 0) {
             const auto& f = scene.fluids[piece.source];
+            if (piece.points_per_plane() * piece.axis[0].size() == 0)
+                throw SceneError("fluid[" + std::to_string(piece.source) + "]: the block " + vec(f.min) + " - " + vec(f.max) +
+                                 " holds no lattice point at physics.dp = " + std::to_string(scene.physics.dp) +
+                                 " m (it is thinner than dp on some axis): make physics.dp smaller or the block larger");
             throw SceneError("fluid[" + std::to_string(piece.source) + "]: no fluid particle is left in the block " +
                              vec(f.min) + " - " + vec(f.max) + ": each of its " +
                              std::to_string(piece.points_per_plane() * piece.axis[0].size()) +
@@ -288,7 +292,9 @@ LatticePlan LatticePlan::make(const Scene& scene) {
                              "a wall or a mesh)");
         }
     }
-    if (plan.fluid_count == 0) throw SceneError("fluid: the scene has no fluid particle");
+    if (plan.fluid_count == 0)
+        throw SceneError("fluid: the scene has no fluid particle at physics.dp = " + std::to_string(scene.physics.dp) +
+                         " m: make physics.dp smaller or the fluid blocks larger");
     if (plan.count() > (std::uint64_t{1} << 31) - 1)
         throw SceneError("physics.dp: the scene has " + std::to_string(plan.count()) +
                          " particles, more than the 2^31 - 1 that 31-bit ids allow; enlarge dp");

@@ -1,0 +1,125 @@
+#include "simulation/setup.hpp"
+
+#include "cl/errors.hpp"
+#include "clsph/memory_plan.hpp"
+#include "clsph/testing.hpp"
+#include "device/memory_census.hpp"
+#include "device/particle_store.hpp"
+#include "multi/rank_devices.hpp"
+#include "multi/ranks.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+
+namespace clsph::simulation {
+
+namespace {
+
+// A scene that asks for fluid (blocks, or meshes filled with fluid) whose fluid gives no particle
+// at all: every block thinner than the lattice, say. It would run, empty, to completion.
+void require_fluid(const Scene& scene, std::uint64_t fluid) {
+    const bool asks = !scene.fluids.empty() ||
+                      std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const MeshObject& m) { return m.fluid; });
+    if (!asks || fluid > 0) return;
+    std::ostringstream o;
+    o << "fluid: the scene's fluid gives no particles at physics.dp = " << scene.physics.dp
+      << " m (a fluid block needs room for at least one lattice point, dp/2 from its faces and away from the "
+         "walls): make physics.dp smaller or the fluid blocks larger";
+    throw SceneError(o.str());
+}
+
+}  // namespace
+
+Source Source::from_scene(const Scene& scene, const Options& options) {
+    Source s;
+    if (options.setup_on_device && scene::LatticePlan::supports(scene)) {
+        if (options.on_setup) options.on_setup("planning the particles of the scene");
+        s.plan = scene::LatticePlan::make(scene);
+    } else {
+        if (options.on_setup) options.on_setup("building the particles of the scene on the host");
+        s.particles = scene.build_particles();
+    }
+    require_fluid(scene, s.plan ? s.plan->fluid_count
+                                : static_cast<std::uint64_t>(std::count(s.particles.type.begin(), s.particles.type.end(),
+                                                                        ParticleType::fluid)));
+    return s;
+}
+
+Source Source::from_checkpoint(const Scene& scene, const device::Grid& grid, const Checkpoint& c) {
+    if (c.scene_hash != scene_hash(scene))
+        throw CheckpointError("(in memory)", "written for another scene (its scene hash differs)");
+    // The checkpoint's particles as the host holds them (the census and the split read positions).
+    Source s = from_particles(device::decode_particles(grid, c.pos.data(), c.velrho.data(), c.id.data(), c.size()));
+    s.checkpoint = &c;
+    return s;
+}
+
+namespace {
+
+cl_rt::EventSet::Mode wait_mode(WaitMode w) {
+    using Mode = cl_rt::EventSet::Mode;
+    return w == WaitMode::poll ? Mode::poll : w == WaitMode::block ? Mode::block : Mode::callbacks;
+}
+
+multi::DriverOptions driver_options(const Scene& scene, const Options& options, const Checkpoint* c) {
+    multi::DriverOptions d;
+    d.interaction = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
+    d.balance = options.balance == BalanceMode::dynamic ? balance::Mode::dynamic
+                : options.balance == BalanceMode::fixed ? balance::Mode::static_
+                                                        : balance::Mode::off;
+    d.balance_log = options.balance_log;
+    d.headroom = options.capacity_headroom;
+    d.cell_headroom = options.cell_headroom;
+    d.wait = wait_mode(options.wait);
+    if (options.seams) d.seams = *options.seams;
+    d.progress = options.on_setup;
+    d.ranks = options.ranks;
+    // A checkpoint's cuts, which the driver takes when they fit its slab count (every rank's slabs).
+    if (c) d.cuts.assign(c->cuts.begin(), c->cuts.end());
+    return d;
+}
+
+}  // namespace
+
+Opened open(const Scene& scene, const device::Grid& grid, const Options& options, const Source& source) {
+    cl_rt::OpenOptions open{options.profile, options.seams ? options.seams->faults : std::vector<testing::Fault>{}};
+    if (options.seams) open.max_allocation = options.seams->max_allocation;
+    std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
+    const scene::LatticePlan* lattice = source.plan ? &*source.plan : nullptr;
+    if (options.ranks) {
+        // This rank's devices (dealt from the node's, or its own clause of a per-rank spec). The
+        // memory plan is one process's: across ranks a device that runs short says so when it
+        // allocates.
+        std::string mine;
+        for (auto i : multi::rank_devices(list_devices(), spec, options.ranks->place()))
+            mine += (mine.empty() ? "" : ",") + std::to_string(i);
+        spec = mine;
+    } else {
+        // The memory plan before any context or buffer: a scene that cannot fit stops here, and a
+        // device whose slab would hold a buffer above its largest allocation is opened as several slabs.
+        const auto infos = cl_rt::selected_infos(spec, open);
+        const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
+                                        : plan_memory(scene, source.particles, infos, options);
+        check_fits(plan);
+        open.slabs = plan.slabs_per_device();
+    }
+    Opened o;
+    o.devices = cl_rt::open_devices(spec, open);
+    std::vector<cl_rt::Device*> devs;
+    for (auto& d : o.devices) {
+        d->profiler().enable(options.profile);
+        d->profiler().trace(options.profile && options.trace);
+        devs.push_back(d.get());
+    }
+    const auto dopt = driver_options(scene, options, source.checkpoint);
+    // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
+    o.first = cl_rt::guarded("setting up the devices", "", [&] {
+        o.driver = lattice ? std::make_unique<multi::SlabDriver>(devs, grid, scene, *lattice, dopt)
+                           : std::make_unique<multi::SlabDriver>(devs, grid, scene, source.particles, dopt);
+        return o.driver->start();  // dt = 0: the checks, reductions and a_0 into accel
+    });
+    return o;
+}
+
+}  // namespace clsph::simulation

@@ -1,0 +1,81 @@
+// Steps run ahead of the host on one device (docs/multi_device.md, "The step ahead"): up to
+// Options::steps_ahead steps are enqueued at once, each choosing its dt on the device
+// (kernels/step_clock.cl) and leaving its record in a ring of pinned slots; the host takes the
+// records in order, a few steps behind, and runs the step callback for each. It waits for the
+// device only at events: a frame or --until (run's t), the step limit, and the last steps before
+// t, where it cannot be sure the next step is still needed. Probe steps sample the probes in the
+// queue, so the callback finds them (probed()) without a wait.
+#pragma once
+#include "cl/async.hpp"
+#include "cl/device.hpp"
+#include "clsph/options.hpp"
+#include "clsph/scene.hpp"
+#include "device/physics.hpp"
+#include "multi/slab_driver.hpp"
+#include "probes/gauges.hpp"
+#include "simulation/failures.hpp"
+#include "simulation/run_state.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace clsph::simulation {
+
+class StepAhead {
+public:
+    StepAhead(const Scene& scene, const Options& options, multi::SlabDriver& driver, RunState& state,
+              const Failures& failures)
+        : scene_(scene), options_(options), driver_(driver), state_(state), failures_(failures) {}
+    // After the set-up (and a checkpoint's restore): on where Options and the driver allow it.
+    void start();
+    bool on() const { return on_; }
+    bool idle() const { return in_flight_.empty(); }
+    // Steps to time t (at most max_steps; 0: no limit), every step's record taken in order.
+    void run(double t, const std::function<void(const StepInfo&)>& on_step, std::uint64_t max_steps);
+    // With nothing in flight: the particles that left the domain, dropped from the arrays.
+    void drop_left();
+    // The probe sums the queue took after the step the state is at, if that was a probe step for
+    // `points` points; null otherwise.
+    const std::vector<probes::Sums>* probed(std::size_t points) const {
+        return on_ && probed_step_ == state_.info.step && probed_.size() == points ? &probed_ : nullptr;
+    }
+
+private:
+    struct Slot {
+        cl_rt::PinnedArray<double> record;
+        cl_rt::PinnedArray<float> probe;  // the probe sums, after a probe step
+        bool probed = false;
+        cl_rt::EventSet done;
+    };
+    bool probe_step(std::uint64_t step) const {
+        return !scene_.probes.empty() && scene_.run.probe_every > 0 &&
+               step % static_cast<std::uint64_t>(scene_.run.probe_every) == 0;
+    }
+    bool may_enqueue(double t, std::uint64_t last_step) const;
+    void enqueue();
+    void enqueue_probe(std::size_t slot, std::uint64_t step);
+    device::StepRecord wait_oldest();
+    void apply(const device::StepRecord& r);
+    // Waits for the steps in flight; `count`: taken into the state (no callbacks), else dropped.
+    void settle(bool count);
+
+    const Scene& scene_;
+    const Options& options_;
+    multi::SlabDriver& driver_;
+    RunState& state_;
+    const Failures& failures_;
+    bool on_ = false;
+    cl_rt::EventSet::Mode wait_mode_ = cl_rt::EventSet::Mode::callbacks;
+    std::vector<std::unique_ptr<Slot>> ring_;
+    std::deque<std::size_t> in_flight_;  // ring slots, oldest first
+    std::size_t next_slot_ = 0;
+    std::size_t left_pending_ = 0;       // particles that left the domain, still at the end of the arrays
+    double dt_max_ = 0.0;                // no step is longer (the acoustic limit at rest, or fixed_dt)
+    std::vector<probes::Sums> probed_;   // the sums after step probed_step_
+    std::uint64_t probed_step_ = ~std::uint64_t{0};
+};
+
+}  // namespace clsph::simulation

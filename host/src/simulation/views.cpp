@@ -1,0 +1,42 @@
+// What the Simulation shows of the state now: probe values, the free surface and its image.
+#include "simulation/impl.hpp"
+
+#include "probes/gauges.hpp"
+#include "render/scene_image.hpp"
+#include "surface/extract.hpp"
+
+namespace clsph {
+
+std::vector<ProbeSample> Simulation::sample_probes() {
+    auto& m = *impl_;
+    const auto pp = probes::sample_points(m.scene);
+    std::vector<probes::Sums> sums;
+    if (const auto* queued = m.ahead.probed(pp.points.size())) {
+        sums = *queued;  // computed in the queue after this probe step (the step ahead)
+    } else {
+        if (!m.ahead.idle())
+            throw Error("sample_probes(): steps run ahead of the host (Options::steps_ahead), so inside the step "
+                        "callback the probes are available only on probe steps (run.probe_every)");
+        sums = cl_rt::guarded("sampling the probes", "", [&] { return m.driver.probe(pp.points); });
+    }
+    // What each probe measures: probes/gauges.hpp (the same for sums from the step ahead).
+    const auto values = probes::values(m.scene, pp, sums);
+    std::vector<ProbeSample> out;
+    for (std::size_t i = 0; i < m.scene.probes.size(); ++i) out.push_back({m.scene.probes[i].name, m.state.info.time, values[i]});
+    return out;
+}
+
+TriangleMesh Simulation::surface(const SurfaceOptions& options) {
+    auto& m = *impl_;
+    m.driver.one_process("free surfaces");
+    return cl_rt::guarded("extracting the free surface", "",
+                          [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options); });
+}
+
+Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
+    auto& m = *impl_;
+    m.driver.one_process("images");
+    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera); });
+}
+
+}  // namespace clsph
