@@ -39,4 +39,8 @@ Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) 
     return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera); });
 }
 
+Image Simulation::image(const CameraView& camera) {
+    return render(surface(), camera);
+}
+
 }  // namespace clsph
