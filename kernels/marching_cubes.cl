@@ -3,7 +3,7 @@
 // b nx ny nz + i + nx (j + ny k), block b's sample (0, 0, 0) being lattice point block_at[b] of a
 // lattice at `origin` with `spacing`; cubes and edges of a block never reach into another. Passes:
 //   mc_edges     per point and axis: 1 where the edge to the next point crosses the iso level
-//   (scan)       each crossing edge's vertex index: vertices are welded by construction
+//   (scan)       each crossing edge's vertex index, in place: vertices are welded by construction
 //   mc_vertices  each crossing edge's vertex: position by linear interpolation, normal from the
 //                field's gradient (central differences at the two ends, pointing outwards)
 //   mc_cubes     per cube: its case and how many triangles it makes; (scan) where they go
@@ -41,10 +41,12 @@ inline float3 gradient(const uint4 n, __global const float* f, const uint i, con
 
 __kernel void mc_vertices(const uint4 n, const float iso, const float4 origin, __global const int4* block_at,
                           const float spacing,
-                          __global const float* field, __global const uint* crossing, __global const uint* vertex_of,
+                          __global const float* field, __global const uint* vertex_of,
                           __global float4* position, __global float4* normal, __global uint* edge_of_vertex) {
     const uint ge = get_global_id(0), per = n.x * n.y * n.z;
-    if (ge >= 3u * per * n.w || !crossing[ge]) return;
+    // vertex_of is the exclusive scan of the crossing flags (3 per point + 1): a crossing edge's
+    // index differs from the next one's.
+    if (ge >= 3u * per * n.w || vertex_of[ge + 1u] == vertex_of[ge]) return;
     const uint block = ge / (3u * per), e = ge - block * 3u * per;
     __global const float* f = field + block * per;
     const int4 at = block_at[block];  // lattice index of the block's sample (0, 0, 0)

@@ -62,6 +62,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
       coarse_wg_(device.work_group_size(64)) {
     std::string opts = grid.kernel_options();
     if (scene.physics.kernel == KernelType::cubic_spline) opts += " -DCLSPH_KERNEL_CUBIC";
+    point_options_ = opts;
     const int diffusion = scene.physics.diffusion == Diffusion::none                 ? 0
                           : scene.physics.diffusion == Diffusion::molteni_colagrossi ? 1
                                                                                      : 2;

@@ -47,6 +47,8 @@ public:
     // `form`: the interaction form to run; automatic picks one by device type (interaction_for).
     Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, Interaction form = Interaction::automatic);
     const SphParams& params() const { return sp_; }
+    // Build options of kernels that evaluate SPH sums at points (probes, the free surface).
+    const std::string& point_options() const { return point_options_; }
     Interaction interaction() const { return form_; }  // the form this device runs (never automatic)
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
@@ -102,6 +104,7 @@ private:
     cl_rt::Device& device_;
     const Grid& grid_;
     SphParams sp_{};
+    std::string point_options_;
     Interaction form_;
     bool summation_;
     bool mdbc_;

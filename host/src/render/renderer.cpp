@@ -58,29 +58,11 @@ Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_gro
 }
 
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& layers) {
-    const Basis b = basis(camera);
-    KernelCamera kc{};
-    kc.eye = f4(b.eye);
-    kc.right = f4(b.right);
-    kc.up = f4(b.up);
-    kc.forward = f4(b.forward);
-    kc.scale = static_cast<float>(b.scale);
-    kc.cx = static_cast<float>(b.cx);
-    kc.cy = static_cast<float>(b.cy);
-    kc.width = camera.width;
-    kc.height = camera.height;
-    const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
-    const cl_uint2 size{{camera.width, camera.height}};
-    const std::size_t pixels = std::size_t{camera.width} * camera.height;
-    auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
-    auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
-    device_.fill(depth, cl_uint(0xffffffffu), pixels);
-    device_.fill(colour, cl_uint(0), pixels);
     struct Uploaded {
         cl_rt::Buffer pos, nrm, tri;
-        std::size_t count = 0;
     };
     std::vector<Uploaded> up(layers.size());
+    std::vector<DeviceLayer> on_device;
     for (std::size_t l = 0; l < layers.size(); ++l) {
         const auto& layer = layers[l];
         if (layer.triangles.empty()) continue;
@@ -100,16 +82,41 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
         device_.write(u.pos, p.data(), p.size());
         device_.write(u.nrm, n.data(), n.size());
         device_.write(u.tri, t.data(), t.size());
-        u.count = layer.triangles.size();
-        cl_rt::set_args(depth_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, u.pos, u.tri, depth);
+        on_device.push_back({&u.pos, &u.nrm, &u.tri, layer.triangles.size(), layer.colour});
+    }
+    return draw(camera, on_device);
+}
+
+DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
+    const Basis b = basis(camera);
+    KernelCamera kc{};
+    kc.eye = f4(b.eye);
+    kc.right = f4(b.right);
+    kc.up = f4(b.up);
+    kc.forward = f4(b.forward);
+    kc.scale = static_cast<float>(b.scale);
+    kc.cx = static_cast<float>(b.cx);
+    kc.cy = static_cast<float>(b.cy);
+    kc.width = camera.width;
+    kc.height = camera.height;
+    const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
+    const cl_uint2 size{{camera.width, camera.height}};
+    const std::size_t pixels = std::size_t{camera.width} * camera.height;
+    auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
+    auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
+    device_.fill(depth, cl_uint(0xffffffffu), pixels);
+    device_.fill(colour, cl_uint(0), pixels);
+    for (const auto& u : layers) {
+        if (u.count == 0) continue;
+        cl_rt::set_args(depth_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size, *u.positions,
+                        *u.triangles, depth);
         device_.launch("render.depth", depth_k_, u.count, wg_);
     }
-    for (std::size_t l = 0; l < layers.size(); ++l) {  // every layer's depth first, then the colours
-        const auto& u = up[l];
+    for (const auto& u : layers) {  // every layer's depth first, then the colours
         if (u.count == 0) continue;
-        const cl_float4 base{{layers[l].colour[0], layers[l].colour[1], layers[l].colour[2], 1.0f}};
-        cl_rt::set_args(shade_k_, u.count, kc.eye, kc.right, kc.up, kc.forward, view, size, base, u.pos, u.nrm, u.tri, depth,
-                        colour);
+        const cl_float4 base{{u.colour[0], u.colour[1], u.colour[2], 1.0f}};
+        cl_rt::set_args(shade_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size, base,
+                        *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }
     DepthImage out;

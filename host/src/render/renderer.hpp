@@ -18,6 +18,16 @@ struct Layer {
     std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
 };
 
+// Triangles already on the renderer's device: float4 positions and normals, 3 uint vertex indices
+// per triangle (the free surface as the devices made it: surface/device_surface.hpp).
+struct DeviceLayer {
+    const cl_rt::Buffer* positions = nullptr;
+    const cl_rt::Buffer* normals = nullptr;
+    const cl_rt::Buffer* triangles = nullptr;
+    std::size_t count = 0;  // triangles
+    std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
+};
+
 struct DepthImage {
     std::uint32_t width = 0, height = 0;
     std::vector<std::uint32_t> depth;   // bits of a positive float; all ones where nothing is
@@ -28,6 +38,8 @@ class Renderer {
 public:
     explicit Renderer(cl_rt::Device& device);
     DepthImage draw(const CameraView& camera, const std::vector<Layer>& layers);
+    // The same for triangles already on the device, drawn as they are (nothing uploaded).
+    DepthImage draw(const CameraView& camera, const std::vector<DeviceLayer>& layers);
 
 private:
     cl_rt::Device& device_;

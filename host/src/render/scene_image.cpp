@@ -51,6 +51,23 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
     return lines;
 }
 
+constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
+
+// The devices' images composited by depth, the walls' outlines drawn over, on the background.
+Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraView& camera) {
+    DepthImage im;
+    if (images.empty()) {
+        im.width = camera.width;
+        im.height = camera.height;
+        im.depth.assign(std::size_t{camera.width} * camera.height, 0xffffffffu);
+        im.colour.assign(im.depth.size(), 0);
+    } else {
+        im = composite(images);
+    }
+    draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
+    return to_rgb(im, {246, 246, 246});
+}
+
 }  // namespace
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
@@ -79,22 +96,36 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
         std::vector<Layer> layers;
-        layers.push_back({&surface, mine[d], {0.30f, 0.55f, 0.92f}});
-        if (d == 0) layers.push_back({&solids, all_solids, {0.62f, 0.60f, 0.58f}});
+        layers.push_back({&surface, mine[d], kWater});
+        if (d == 0) layers.push_back({&solids, all_solids, kSolid});
         Renderer r(*slabs[d].device);
         images.push_back(r.draw(camera, layers));
     }
-    DepthImage im;
-    if (images.empty()) {
-        im.width = camera.width;
-        im.height = camera.height;
-        im.depth.assign(std::size_t{camera.width} * camera.height, 0xffffffffu);
-        im.colour.assign(im.depth.size(), 0);
-    } else {
-        im = composite(images);
+    return finish(std::move(images), scene, camera);
+}
+
+Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
+                   const CameraView& camera) {
+    auto& slabs = driver.slabs();
+    const TriangleMesh solids = box_mesh(scene.solids);
+    std::vector<std::uint32_t> all_solids(solids.triangles.size());
+    for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
+    std::vector<DepthImage> images;
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
+        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !all_solids.empty();
+        if (!water && !boxes) continue;
+        Renderer r(*slabs[d].device);
+        std::vector<DeviceLayer> layers;
+        if (water) layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), kWater});
+        if (boxes) {
+            std::vector<Layer> host_layers{{&solids, all_solids, kSolid}};
+            DepthImage solid_image = r.draw(camera, host_layers);
+            images.push_back(std::move(solid_image));
+        }
+        if (!layers.empty()) images.push_back(r.draw(camera, layers));
     }
-    draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
-    return to_rgb(im, {246, 246, 246});
+    return finish(std::move(images), scene, camera);
 }
 
 }  // namespace clsph::render

@@ -6,10 +6,15 @@
 #include "clsph/scene.hpp"
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
+#include "surface/extract.hpp"
 
 namespace clsph::render {
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
+                   const CameraView& camera);
+// The same from the surface where the devices made it (surface::surface_on_devices): each device
+// draws its own part from its own memory; only the images move.
+Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
                    const CameraView& camera);
 
 }  // namespace clsph::render

@@ -5,14 +5,33 @@
 // are nearly full of fluid (inside); blocks never sampled count as inside or outside alike on both
 // sides, so the mesh stays closed. Each block belongs to the device owning its first sample's
 // column, and each sample is evaluated on the device owning its own column (which holds the ghosts
-// it needs), so the mesh is the same on any number of devices.
+// it needs), so the mesh is the same on any number of devices. All of it runs on the devices
+// (surface/device_surface.hpp); extract_surface() downloads and joins the parts, welded by
+// lattice edge where devices meet.
 #pragma once
 #include "clsph/mesh.hpp"
 #include "clsph/scene.hpp"
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
+#include "surface/device_surface.hpp"
+
+#include <memory>
+#include <vector>
 
 namespace clsph::surface {
+
+// The surface left on the devices: each busy slab's part (null for the others).
+struct DeviceParts {
+    std::vector<std::unique_ptr<DeviceSurface>> parts;
+    bool empty() const {
+        for (const auto& p : parts)
+            if (p && p->triangle_count() > 0) return false;
+        return true;
+    }
+};
+
+DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                               const SurfaceOptions& options);
 
 TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
                              const SurfaceOptions& options);

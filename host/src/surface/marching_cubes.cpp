@@ -37,61 +37,72 @@ Mesh MarchingCubes::run(const cl_rt::Buffer& field, const SampleGrid& grid, floa
 BlockMeshes MarchingCubes::run_blocks(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
                                       const std::array<double, 3>& origin, double spacing,
                                       const std::vector<std::array<std::int32_t, 3>>& block_at, float iso) {
+    BlockMeshes out;
+    const std::size_t blocks = block_at.size();
+    if (blocks == 0) return out;
+    std::vector<cl_int> at(4 * blocks, 0);
+    for (std::size_t b = 0; b < blocks; ++b)
+        for (std::size_t k = 0; k < 3; ++k) at[4 * b + k] = block_at[b][k];
+    auto at_buf = device_.alloc(at.size() * sizeof(cl_int), "surface block positions");
+    device_.write(at_buf, at.data(), at.size());
+    const DeviceBlockMeshes d = run_blocks_device(field, points, origin, spacing, at_buf, blocks, iso);
+    Mesh& mesh = out.mesh;
+    if (d.vertices > 0) {
+        std::vector<float> p(4 * d.vertices), q(4 * d.vertices);
+        device_.read(d.position, p.data(), p.size());
+        device_.read(d.normal, q.data(), q.size());
+        out.edge_of_vertex.resize(d.vertices);
+        device_.read(d.edge_of_vertex, out.edge_of_vertex.data(), d.vertices);
+        mesh.positions.resize(d.vertices);
+        mesh.normals.resize(d.vertices);
+        for (std::size_t v = 0; v < d.vertices; ++v) {
+            mesh.positions[v] = {p[4 * v], p[4 * v + 1], p[4 * v + 2]};
+            mesh.normals[v] = {q[4 * v], q[4 * v + 1], q[4 * v + 2]};
+        }
+    }
+    if (d.triangles > 0) {
+        std::vector<cl_uint> t(3 * d.triangles);
+        device_.read(d.triangle_vertices, t.data(), t.size());
+        mesh.triangles.resize(d.triangles);
+        for (std::size_t k = 0; k < d.triangles; ++k) mesh.triangles[k] = {t[3 * k], t[3 * k + 1], t[3 * k + 2]};
+    }
+    return out;
+}
+
+DeviceBlockMeshes MarchingCubes::run_blocks_device(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                                                   const std::array<double, 3>& origin, double spacing,
+                                                   const cl_rt::Buffer& block_at, std::size_t blocks, float iso) {
     SampleGrid one;
     one.points = points;
     one.spacing = spacing;
     check_grid(one);
-    const std::size_t blocks = block_at.size();
-    BlockMeshes out;
+    DeviceBlockMeshes out;
     if (blocks == 0) return out;
     const std::size_t per = one.samples(), points_all = per * blocks, edges = 3 * points_all;
     const std::size_t cubes = std::size_t{points[0] - 1} * (points[1] - 1) * (points[2] - 1) * blocks;
     if (static_cast<double>(edges) > 4.0e9) throw Error("marching cubes: too many blocks in one batch");
     const cl_uint4 n{{points[0], points[1], points[2], cl_rt::checked_uint(blocks, "surface blocks")}};
-    auto crossing = device_.alloc(edges * sizeof(cl_uint), "surface edge flags");
-    auto vertex_of = device_.alloc((edges + 1) * sizeof(cl_uint), "surface vertex indices");
-    set_args(edges_k_, n, iso, field, crossing);
+    // The crossing flags are scanned in place into each edge's vertex index (n + 1 elements).
+    out.vertex_of = device_.alloc((edges + 1) * sizeof(cl_uint), "surface vertex indices");
+    set_args(edges_k_, n, iso, field, out.vertex_of);
     device_.launch("surface.edges", edges_k_, points_all, wg_);
-    const std::size_t vertices = scan_.exclusive_total(crossing, vertex_of, edges);
-
-    Mesh& mesh = out.mesh;
-    if (vertices > 0) {
-        std::vector<cl_int> at(4 * blocks, 0);
-        for (std::size_t b = 0; b < blocks; ++b)
-            for (std::size_t k = 0; k < 3; ++k) at[4 * b + k] = block_at[b][k];
-        auto at_buf = device_.alloc(at.size() * sizeof(cl_int), "surface block positions");
-        device_.write(at_buf, at.data(), at.size());
+    out.vertices = scan_.exclusive_total(out.vertex_of, out.vertex_of, edges);
+    if (out.vertices > 0) {
         const cl_float4 o{{static_cast<float>(origin[0]), static_cast<float>(origin[1]), static_cast<float>(origin[2]), 0.0f}};
-        auto pos = device_.alloc(vertices * 4 * sizeof(float), "surface positions");
-        auto nrm = device_.alloc(vertices * 4 * sizeof(float), "surface normals");
-        auto edge_of = device_.alloc(vertices * sizeof(cl_uint), "surface vertex edges");
-        set_args(vertices_k_, n, iso, o, at_buf, static_cast<float>(spacing), field, crossing, vertex_of, pos, nrm, edge_of);
+        out.position = device_.alloc(out.vertices * 4 * sizeof(float), "surface positions");
+        out.normal = device_.alloc(out.vertices * 4 * sizeof(float), "surface normals");
+        out.edge_of_vertex = device_.alloc(out.vertices * sizeof(cl_uint), "surface vertex edges");
+        set_args(vertices_k_, n, iso, o, block_at, static_cast<float>(spacing), field, out.vertex_of, out.position, out.normal, out.edge_of_vertex);
         device_.launch("surface.vertices", vertices_k_, edges, wg_);
-        std::vector<float> p(4 * vertices), q(4 * vertices);
-        device_.read(pos, p.data(), p.size());
-        device_.read(nrm, q.data(), q.size());
-        out.edge_of_vertex.resize(vertices);
-        device_.read(edge_of, out.edge_of_vertex.data(), vertices);
-        mesh.positions.resize(vertices);
-        mesh.normals.resize(vertices);
-        for (std::size_t v = 0; v < vertices; ++v) {
-            mesh.positions[v] = {p[4 * v], p[4 * v + 1], p[4 * v + 2]};
-            mesh.normals[v] = {q[4 * v], q[4 * v + 1], q[4 * v + 2]};
-        }
     }
-    auto per_cube = device_.alloc(cubes * sizeof(cl_uint), "surface triangles per cube");
-    auto first = device_.alloc((cubes + 1) * sizeof(cl_uint), "surface first triangles");
+    auto per_cube = device_.alloc((cubes + 1) * sizeof(cl_uint), "surface triangles per cube");
     set_args(cubes_k_, n, iso, field, table_, per_cube);
     device_.launch("surface.cubes", cubes_k_, cubes, wg_);
-    const std::size_t triangles = scan_.exclusive_total(per_cube, first, cubes);
-    if (triangles > 0) {
-        auto tris = device_.alloc(triangles * 3 * sizeof(cl_uint), "surface triangles");
-        set_args(triangles_k_, n, iso, field, table_, first, vertex_of, tris);
+    out.triangles = scan_.exclusive_total(per_cube, per_cube, cubes);
+    if (out.triangles > 0) {
+        out.triangle_vertices = device_.alloc(out.triangles * 3 * sizeof(cl_uint), "surface triangles");
+        set_args(triangles_k_, n, iso, field, table_, per_cube, out.vertex_of, out.triangle_vertices);
         device_.launch("surface.triangles", triangles_k_, cubes, wg_);
-        std::vector<cl_uint> t(3 * triangles);
-        device_.read(tris, t.data(), t.size());
-        mesh.triangles.resize(triangles);
-        for (std::size_t k = 0; k < triangles; ++k) mesh.triangles[k] = {t[3 * k], t[3 * k + 1], t[3 * k + 2]};
     }
     return out;
 }

@@ -29,6 +29,15 @@ struct BlockMeshes {
     std::vector<std::uint32_t> edge_of_vertex;
 };
 
+// The same, left on the device (the free surface's path, surface/device_surface.hpp): only the
+// two counts are read back. Per vertex: position and normal (float4), edge_of_vertex as in
+// BlockMeshes; vertex_of: per block 3 per sample + 1, each crossing edge's vertex index;
+// triangles: 3 vertex indices each.
+struct DeviceBlockMeshes {
+    std::size_t vertices = 0, triangles = 0;
+    cl_rt::Buffer vertex_of, position, normal, edge_of_vertex, triangle_vertices;
+};
+
 class MarchingCubes {
 public:
     explicit MarchingCubes(cl_rt::Device& device);
@@ -41,6 +50,11 @@ public:
     BlockMeshes run_blocks(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
                            const std::array<double, 3>& origin, double spacing,
                            const std::vector<std::array<std::int32_t, 3>>& block_at, float iso);
+
+    // `block_at` holds `blocks` int4 (lattice index of each block's sample (0, 0, 0)).
+    DeviceBlockMeshes run_blocks_device(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                                        const std::array<double, 3>& origin, double spacing,
+                                        const cl_rt::Buffer& block_at, std::size_t blocks, float iso);
 
 private:
     cl_rt::Device& device_;

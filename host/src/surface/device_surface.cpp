@@ -1,0 +1,214 @@
+#include "surface/device_surface.hpp"
+
+#include "cl/kernel_args.hpp"
+#include "clsph/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace clsph::surface {
+namespace {
+constexpr cl_uint kNone = 0xffffffffu;
+}
+
+DeviceSurface::DeviceSurface(cl_rt::Device& device, const device::Grid& grid, const device::Physics& physics,
+                             const BlockLattice& lattice)
+    : device_(device),
+      grid_(grid),
+      physics_(physics),
+      lattice_(lattice),
+      scan_(device, device::Scan::Config{0, 0, "surface.scan"}),
+      mc_(device),
+      wg_(device.work_group_size(128)) {
+    const std::string& opts = physics.point_options();
+    count_k_ = device.kernel("surface.cl", "surface_count", opts);
+    flag_k_ = device.kernel("surface.cl", "surface_flag", opts);
+    compact_k_ = device.kernel("surface.cl", "surface_compact", opts);
+    field_k_ = device.kernel("surface.cl", "surface_field", opts);
+    gather_k_ = device.kernel("surface.cl", "surface_gather", opts);
+    slots_k_ = device.kernel("surface.cl", "surface_slots", opts);
+    weld_k_ = device.kernel("surface.cl", "surface_weld", opts);
+    welded_k_ = device.kernel("surface.cl", "surface_welded", opts);
+    remap_k_ = device.kernel("surface.cl", "surface_remap", opts);
+    counts_ = device.alloc(lattice.count() * sizeof(cl_uint), "surface block counts");
+    device.fill(counts_, cl_uint{0}, lattice.count());
+}
+
+namespace {
+cl_uint4 blocks_arg(const BlockLattice& L) { return cl_uint4{{L.blocks[0], L.blocks[1], L.blocks[2], 0}}; }
+}  // namespace
+
+void DeviceSurface::count(const device::ParticleStore& store) {
+    const std::size_t first = store.ranges.first_owned(), end = store.ranges.end_owned();
+    if (end <= first) return;
+    cl_rt::set_args(count_k_, cl_rt::checked_uint(first), cl_rt::checked_uint(end), grid_.params(), blocks_arg(lattice_),
+                    static_cast<float>(lattice_.edge()), store.pos, store.id, counts_);
+    device_.launch("surface.count", count_k_, end - first, wg_);
+}
+
+std::vector<std::uint32_t> DeviceSurface::read_counts() {
+    std::vector<std::uint32_t> c(lattice_.count());
+    device_.read(counts_, c.data(), c.size());
+    return c;
+}
+
+void DeviceSurface::write_counts(const std::vector<std::uint32_t>& counts) {
+    if (counts.size() != lattice_.count()) throw Error("surface: block counts of the wrong size");
+    device_.write(counts_, counts.data(), counts.size());
+}
+
+std::size_t DeviceSurface::activate(std::uint32_t full) {
+    const std::size_t n = lattice_.count();
+    auto flags = device_.alloc(n * sizeof(cl_uint), "surface block flags");
+    auto slot = device_.alloc((n + 1) * sizeof(cl_uint), "surface block slots");
+    cl_rt::set_args(flag_k_, blocks_arg(lattice_), full, counts_, flags);
+    device_.launch("surface.flag", flag_k_, n, wg_);
+    blocks_ = scan_.exclusive_total(flags, slot, n);
+    active_ = device_.alloc(std::max<std::size_t>(blocks_, 1) * sizeof(cl_uint), "surface active blocks");
+    block_at_ = device_.alloc(std::max<std::size_t>(blocks_, 1) * 4 * sizeof(cl_int), "surface block positions");
+    if (blocks_ > 0) {
+        cl_rt::set_args(compact_k_, blocks_arg(lattice_), flags, slot, active_, block_at_);
+        device_.launch("surface.compact", compact_k_, n, wg_);
+    }
+    return blocks_;
+}
+
+std::vector<std::uint32_t> DeviceSurface::active_keys() {
+    std::vector<std::uint32_t> keys(blocks_);
+    device_.read(active_, keys.data(), keys.size());
+    return keys;
+}
+
+void DeviceSurface::sample(device::ParticleStore& store, const device::CellPipeline& cells, std::uint32_t col_lo,
+                           std::uint32_t col_hi) {
+    if (blocks_ == 0) return;
+    const std::size_t samples = blocks_ * kBlockPoints;
+    field_ = device_.alloc(samples * sizeof(float), "surface samples");
+    cl_rt::set_args(field_k_, cl_rt::checked_uint(blocks_), static_cast<float>(lattice_.spacing), col_lo, col_hi,
+                    cl_rt::checked_uint(cells.cells()), grid_.params(), physics_.params(), block_at_, cells.cell_key(),
+                    cells.cell_start(), store.pos, store.velrho, store.id, field_);
+    device_.launch("surface.field", field_k_, samples, wg_);
+}
+
+std::vector<float> DeviceSurface::read_block(std::size_t slot) {
+    std::vector<float> v(kBlockPoints);
+    device_.read(field_, v.data(), v.size(), slot * kBlockPoints);
+    return v;
+}
+
+void DeviceSurface::write_block(std::size_t slot, const std::vector<float>& values) {
+    device_.write(field_, values.data(), kBlockPoints, slot * kBlockPoints);
+}
+
+void DeviceSurface::keep(const std::vector<std::uint32_t>& slots) {
+    const std::size_t n = slots.size();
+    auto slot_buf = device_.alloc(std::max<std::size_t>(n, 1) * sizeof(cl_uint), "surface kept blocks");
+    auto active = device_.alloc(std::max<std::size_t>(n, 1) * sizeof(cl_uint), "surface active blocks");
+    auto at = device_.alloc(std::max<std::size_t>(n, 1) * 4 * sizeof(cl_int), "surface block positions");
+    auto field = device_.alloc(std::max<std::size_t>(n, 1) * kBlockPoints * sizeof(float), "surface samples");
+    if (n > 0) {
+        device_.write(slot_buf, slots.data(), n);
+        cl_rt::set_args(gather_k_, cl_rt::checked_uint(n), slot_buf, active_, block_at_, field_, active, at, field);
+        device_.launch("surface.gather", gather_k_, n * kBlockPoints, wg_);
+    }
+    active_ = std::move(active);
+    block_at_ = std::move(at);
+    field_ = std::move(field);
+    blocks_ = n;
+}
+
+void DeviceSurface::mesh(float iso) {
+    vertices_ = triangle_count_ = 0;
+    if (blocks_ == 0) return;
+    DeviceBlockMeshes m = mc_.run_blocks_device(field_, {kBlockSamples, kBlockSamples, kBlockSamples}, lattice_.origin,
+                                                lattice_.spacing, block_at_, blocks_, iso);
+    if (m.vertices == 0) return;
+    // The weld: each lattice edge keeps the vertex of the lowest-keyed block meshed here.
+    auto slot_of = device_.alloc(lattice_.count() * sizeof(cl_uint), "surface block slot map");
+    device_.fill(slot_of, kNone, lattice_.count());
+    cl_rt::set_args(slots_k_, cl_rt::checked_uint(blocks_), active_, slot_of);
+    device_.launch("surface.slots", slots_k_, blocks_, wg_);
+    auto own = device_.alloc((m.vertices + 1) * sizeof(cl_uint), "surface weld flags");
+    auto target = device_.alloc(m.vertices * sizeof(cl_uint), "surface weld targets");
+    cl_rt::set_args(weld_k_, cl_rt::checked_uint(m.vertices), blocks_arg(lattice_), block_at_, slot_of,
+                    m.edge_of_vertex, m.vertex_of, own, target);
+    device_.launch("surface.weld", weld_k_, m.vertices, wg_);
+    auto welded = device_.alloc((m.vertices + 1) * sizeof(cl_uint), "surface welded indices");
+    vertices_ = scan_.exclusive_total(own, welded, m.vertices);
+    auto remap = device_.alloc(m.vertices * sizeof(cl_uint), "surface vertex remap");
+    position_ = device_.alloc(vertices_ * 4 * sizeof(float), "surface positions (welded)");
+    normal_ = device_.alloc(vertices_ * 4 * sizeof(float), "surface normals (welded)");
+    edge_ = device_.alloc(vertices_ * 2 * sizeof(cl_uint), "surface vertex edges (welded)");
+    const cl_uint4 lattice{{lattice_.blocks[0] * kBlockCubes + 1, lattice_.blocks[1] * kBlockCubes + 1, 0, 0}};
+    cl_rt::set_args(welded_k_, cl_rt::checked_uint(m.vertices), lattice, own, welded, target, m.position, m.normal,
+                    m.edge_of_vertex, block_at_, remap, position_, normal_, edge_);
+    device_.launch("surface.welded", welded_k_, m.vertices, wg_);
+    triangle_count_ = m.triangles;
+    if (triangle_count_ > 0) {
+        triangles_ = std::move(m.triangle_vertices);
+        cl_rt::set_args(remap_k_, cl_rt::checked_uint(3 * triangle_count_), remap, triangles_);
+        device_.launch("surface.remap", remap_k_, 3 * triangle_count_, wg_);
+    }
+}
+
+MeshPart DeviceSurface::download() {
+    MeshPart part;
+    if (vertices_ == 0) return part;
+    std::vector<float> p(4 * vertices_), q(4 * vertices_);
+    std::vector<cl_uint> e(2 * vertices_), t(3 * triangle_count_);
+    device_.read(position_, p.data(), p.size());
+    device_.read(normal_, q.data(), q.size());
+    device_.read(edge_, e.data(), e.size());
+    if (triangle_count_ > 0) device_.read(triangles_, t.data(), t.size());
+    part.positions.resize(vertices_);
+    part.normals.resize(vertices_);
+    part.edges.resize(vertices_);
+    for (std::size_t v = 0; v < vertices_; ++v) {
+        part.positions[v] = {p[4 * v], p[4 * v + 1], p[4 * v + 2]};
+        part.normals[v] = {q[4 * v], q[4 * v + 1], q[4 * v + 2]};
+        part.edges[v] = std::uint64_t{e[2 * v]} | (std::uint64_t{e[2 * v + 1]} << 32);
+    }
+    part.triangles.resize(triangle_count_);
+    for (std::size_t k = 0; k < triangle_count_; ++k) part.triangles[k] = {t[3 * k], t[3 * k + 1], t[3 * k + 2]};
+    return part;
+}
+
+std::vector<std::uint32_t> active_blocks_reference(const std::vector<std::array<double, 3>>& fluid,
+                                                   const BlockLattice& L, std::uint32_t full) {
+    const std::int64_t n[3] = {L.blocks[0], L.blocks[1], L.blocks[2]};
+    std::unordered_map<std::uint32_t, std::uint32_t> count;
+    auto key = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+        return static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
+    };
+    auto inside = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+        return i >= 0 && j >= 0 && k >= 0 && i < n[0] && j < n[1] && k < n[2];
+    };
+    for (const auto& x : fluid) {
+        std::int64_t c[3];
+        for (std::size_t a = 0; a < 3; ++a) c[a] = static_cast<std::int64_t>(std::floor((x[a] - L.origin[a]) / L.edge()));
+        if (inside(c[0], c[1], c[2])) ++count[key(c[0], c[1], c[2])];
+    }
+    std::vector<std::uint32_t> active;
+    for (std::int64_t k = 0; k < n[2]; ++k)
+        for (std::int64_t j = 0; j < n[1]; ++j)
+            for (std::int64_t i = 0; i < n[0]; ++i) {
+                bool wet = false, all_full = true;
+                for (int dk = -1; dk <= 1; ++dk)
+                    for (int dj = -1; dj <= 1; ++dj)
+                        for (int di = -1; di <= 1; ++di) {
+                            if (!inside(i + di, j + dj, k + dk)) {
+                                all_full = false;
+                                continue;
+                            }
+                            const auto it = count.find(key(i + di, j + dj, k + dk));
+                            const std::uint32_t c = it == count.end() ? 0 : it->second;
+                            wet = wet || c > 0;
+                            all_full = all_full && c >= full;
+                        }
+                if (wet && !all_full) active.push_back(key(i, j, k));
+            }
+    return active;
+}
+
+}  // namespace clsph::surface

@@ -1,0 +1,209 @@
+// The free surface on the device (host/src/surface/device_surface.cpp): blocks of 8^3 cubes of a
+// lattice of samples (spacing `spacing`, sample (I, J, K) at the domain's min corner + spacing
+// (I, J, K)), found from the fluid particles, sampled, meshed by marching_cubes.cl, welded.
+//   surface_count    per owned particle: fluid particles per block (a dense grid of blocks)
+//   surface_flag     per block: active where it or a neighbour holds fluid, unless it and all 26
+//                    neighbours are nearly full (inside)
+//   (scan)           each active block's slot, in block-key order
+//   surface_compact  the active blocks' keys and lattice corners, by slot
+//   surface_field    per sample of an active block: the fluid fraction sum V_j W (probe_sums.h), 0
+//                    outside the columns [col_lo, col_hi) this device owns
+//   surface_gather   the blocks one device meshes, when several share the surface
+//   surface_slots    a dense map block key -> slot, for the weld
+//   surface_weld     per vertex of marching_cubes.cl (one per crossing edge of each block): the
+//                    vertex of the same lattice edge in the lowest-keyed block meshed here, and
+//                    whether that is its own block; (scan) the welded vertices' indices
+//   surface_welded   the welded vertices, and each vertex's welded index
+//   surface_remap    triangles onto the welded vertices
+// Block keys are bx + nbx (by + nby bz); a block's sample (i, j, k) (0..8 per axis, faces shared
+// with neighbours) is at i + 9 (j + 9 k) of its 729 in the field.
+#include "probe_sums.h"
+
+#define SURFACE_CUBES 8
+#define SURFACE_SAMPLES 9
+#define SURFACE_PER_BLOCK (SURFACE_SAMPLES * SURFACE_SAMPLES * SURFACE_SAMPLES)
+#define SURFACE_NONE 0xffffffffu
+
+inline uint block_key(const uint4 nb, const int i, const int j, const int k) {
+    return (uint)i + nb.x * ((uint)j + nb.y * (uint)k);
+}
+
+inline bool block_inside(const uint4 nb, const int i, const int j, const int k) {
+    return i >= 0 && j >= 0 && k >= 0 && (uint)i < nb.x && (uint)j < nb.y && (uint)k < nb.z;
+}
+
+// A particle's position relative to the domain's min corner, from its cell and offset.
+inline float3 relative_of(const GridParams g, const float4 p) {
+    const uint key = pos_key(p);
+    float3 r;
+    S_OF(r) = ((float)key_s(g, key) + 0.5f) * g.cell_s + S_OF(p);
+    A_OF(r) = ((float)key_a(g, key) + 0.5f) * g.cell_a + A_OF(p);
+    B_OF(r) = ((float)key_b(g, key) + 0.5f) * g.cell_b + B_OF(p);
+    return r;
+}
+
+__kernel void surface_count(const uint first, const uint end, const GridParams g, const uint4 nb,
+                            const float block_edge, __global const float4* pos, __global const uint* ids,
+                            __global uint* count) {
+    const uint i = first + get_global_id(0);
+    if (i >= end || (ids[i] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) return;
+    const float4 p = pos[i];
+    if (pos_key(p) == g.invalid_key) return;
+    const float3 b = floor(relative_of(g, p) / block_edge);
+    const int bi = (int)b.x, bj = (int)b.y, bk = (int)b.z;
+    if (block_inside(nb, bi, bj, bk)) atomic_inc(&count[block_key(nb, bi, bj, bk)]);
+}
+
+__kernel void surface_flag(const uint4 nb, const uint full, __global const uint* count, __global uint* flag) {
+    const uint key = get_global_id(0);
+    if (key >= nb.x * nb.y * nb.z) return;
+    const int i = (int)(key % nb.x), j = (int)((key / nb.x) % nb.y), k = (int)(key / (nb.x * nb.y));
+    bool fluid = false, inside = true;
+    for (int dk = -1; dk <= 1; ++dk)
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                if (!block_inside(nb, i + di, j + dj, k + dk)) {
+                    inside = false;
+                    continue;
+                }
+                const uint c = count[block_key(nb, i + di, j + dj, k + dk)];
+                fluid = fluid || c > 0u;
+                inside = inside && c >= full;
+            }
+    flag[key] = fluid && !inside;
+}
+
+__kernel void surface_compact(const uint4 nb, __global const uint* flag, __global const uint* slot_of_flag,
+                              __global uint* active, __global int4* block_at) {
+    const uint key = get_global_id(0);
+    if (key >= nb.x * nb.y * nb.z || !flag[key]) return;
+    const uint slot = slot_of_flag[key];
+    active[slot] = key;
+    block_at[slot] = (int4)((int)(key % nb.x) * SURFACE_CUBES, (int)((key / nb.x) % nb.y) * SURFACE_CUBES,
+                            (int)(key / (nb.x * nb.y)) * SURFACE_CUBES, 0);
+}
+
+// One axis of a sample's cell and offset (Grid::locate_axis, in float): false outside the domain.
+inline bool locate_axis(const float x, const float cell, const uint n, const uint periodic, uint* c, float* off) {
+    float rel = x;
+    if (periodic) {
+        const float len = cell * (float)n;
+        rel -= floor(rel / len) * len;
+    }
+    float ci = floor(rel / cell);
+    if (periodic && ci >= (float)n) ci = (float)(n - 1u);
+    if (!(ci >= 0.0f) || ci >= (float)n) return false;
+    *c = (uint)ci;
+    *off = rel - (ci + 0.5f) * cell;
+    return true;
+}
+
+__kernel void surface_field(const uint blocks, const float spacing, const uint col_lo, const uint col_hi,
+                            const uint cells, const GridParams g, const SphParams sp,
+                            __global const int4* block_at, __global const uint* cell_key,
+                            __global const uint* cell_start, __global const float4* pos,
+                            __global const float4* velrho, __global const uint* ids, __global float* field) {
+    const uint gid = get_global_id(0);
+    if (gid >= blocks * SURFACE_PER_BLOCK) return;
+    const uint b = gid / SURFACE_PER_BLOCK, p = gid - b * SURFACE_PER_BLOCK;
+    const int4 at = block_at[b];
+    const float3 x = spacing * (float3)((float)(at.x + (int)(p % SURFACE_SAMPLES)),
+                                        (float)(at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES)),
+                                        (float)(at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES))));
+    uint s, a, bb;
+    float os, oa, ob;
+    float value = 0.0f;
+    if (locate_axis(S_OF(x), g.cell_s, g.n_s, 0u, &s, &os) && s >= col_lo && s < col_hi &&
+        locate_axis(A_OF(x), g.cell_a, g.n_a, g.periodic_a, &a, &oa) &&
+        locate_axis(B_OF(x), g.cell_b, g.n_b, 0u, &bb, &ob)) {
+        float4 q;
+        S_OF(q) = os;
+        A_OF(q) = oa;
+        B_OF(q) = ob;
+        q.w = as_float(make_key(g, s, a, bb));
+        value = probe_sums_at(q, cells, g, sp, cell_key, cell_start, pos, velrho, ids).x;
+    }
+    field[gid] = value;
+}
+
+__kernel void surface_slots(const uint blocks, __global const uint* active, __global uint* slot_of) {
+    const uint slot = get_global_id(0);
+    if (slot < blocks) slot_of[active[slot]] = slot;
+}
+
+__kernel void surface_weld(const uint vertices, const uint4 nb, __global const int4* block_at,
+                           __global const uint* slot_of, __global const uint* edge_of_vertex,
+                           __global const uint* vertex_of, __global uint* own, __global uint* target) {
+    const uint v = get_global_id(0);
+    if (v >= vertices) return;
+    const uint per_edges = 3u * SURFACE_PER_BLOCK;
+    const uint ge = edge_of_vertex[v], b = ge / per_edges, e = ge - b * per_edges, p = e / 3u, axis = e % 3u;
+    const int4 at = block_at[b];
+    const int I[3] = {at.x + (int)(p % SURFACE_SAMPLES), at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES),
+                      at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES))};
+    // The blocks holding this edge: along the edge's axis one; across it two where the edge lies
+    // on a block face (lattice index a multiple of 8). Lowest key first: k, then j, then i.
+    int lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+        hi[d] = I[d] / SURFACE_CUBES;
+        lo[d] = ((uint)d != axis && I[d] % SURFACE_CUBES == 0 && hi[d] > 0) ? hi[d] - 1 : hi[d];
+    }
+    uint found = SURFACE_NONE, at_edge = 0u;
+    for (int ck = lo[2]; ck <= hi[2] && found == SURFACE_NONE; ++ck)
+        for (int cj = lo[1]; cj <= hi[1] && found == SURFACE_NONE; ++cj)
+            for (int ci = lo[0]; ci <= hi[0] && found == SURFACE_NONE; ++ci) {
+                if (!block_inside(nb, ci, cj, ck)) continue;
+                const uint s = slot_of[block_key(nb, ci, cj, ck)];
+                if (s == SURFACE_NONE) continue;
+                const uint lp = (uint)(I[0] - ci * SURFACE_CUBES) +
+                                SURFACE_SAMPLES * ((uint)(I[1] - cj * SURFACE_CUBES) +
+                                                   SURFACE_SAMPLES * (uint)(I[2] - ck * SURFACE_CUBES));
+                found = s;
+                at_edge = s * per_edges + 3u * lp + axis;
+            }
+    // The vertex's own block is always among them, so `found` is set.
+    own[v] = found == b;
+    target[v] = vertex_of[at_edge];
+}
+
+__kernel void surface_welded(const uint vertices, const uint4 lattice, __global const uint* own,
+                             __global const uint* welded_index, __global const uint* target,
+                             __global const float4* position, __global const float4* normal,
+                             __global const uint* edge_of_vertex, __global const int4* block_at,
+                             __global uint* remap, __global float4* out_position, __global float4* out_normal,
+                             __global uint2* out_edge) {
+    const uint v = get_global_id(0);
+    if (v >= vertices) return;
+    remap[v] = welded_index[target[v]];
+    if (!own[v]) return;
+    const uint w = welded_index[v];
+    out_position[w] = position[v];
+    out_normal[w] = normal[v];
+    // The lattice edge as a 64-bit number ((K ny + J) nx + I) 3 + axis, for the host's weld across
+    // devices: lo and hi words.
+    const uint per_edges = 3u * SURFACE_PER_BLOCK;
+    const uint ge = edge_of_vertex[v], b = ge / per_edges, e = ge - b * per_edges, p = e / 3u;
+    const int4 at = block_at[b];
+    const ulong I = (ulong)(at.x + (int)(p % SURFACE_SAMPLES)), J = (ulong)(at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES)),
+                K = (ulong)(at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES)));
+    const ulong edge = ((K * (ulong)lattice.y + J) * (ulong)lattice.x + I) * 3ul + (ulong)(e % 3u);
+    out_edge[w] = (uint2)((uint)(edge & 0xffffffffu), (uint)(edge >> 32));
+}
+
+__kernel void surface_remap(const uint indices, __global const uint* remap, __global uint* triangles) {
+    const uint t = get_global_id(0);
+    if (t < indices) triangles[t] = remap[triangles[t]];
+}
+
+__kernel void surface_gather(const uint blocks, __global const uint* slots, __global const uint* active,
+                             __global const int4* block_at, __global const float* field, __global uint* out_active,
+                             __global int4* out_block_at, __global float* out_field) {
+    const uint gid = get_global_id(0);
+    if (gid >= blocks * SURFACE_PER_BLOCK) return;
+    const uint b = gid / SURFACE_PER_BLOCK, p = gid - b * SURFACE_PER_BLOCK, from = slots[b];
+    out_field[gid] = field[from * SURFACE_PER_BLOCK + p];
+    if (p == 0u) {
+        out_active[b] = active[from];
+        out_block_at[b] = block_at[from];
+    }
+}

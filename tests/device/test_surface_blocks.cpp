@@ -1,0 +1,119 @@
+// The free surface's device passes (kernels/surface.cl) against plain C++ on every device, on a
+// random cloud: a tank's fluid jittered, thinned at random and sprayed with random particles, so
+// there are full blocks inside, blocks at the surface and lone drops. The active blocks equal the
+// reference's set; the field of a block equals the probes' (the per-point path) within round-off.
+#include "clsph/scene.hpp"
+#include "device/cell_pipeline.hpp"
+#include "device/grid.hpp"
+#include "device/particle_store.hpp"
+#include "device/physics.hpp"
+#include "surface/device_surface.hpp"
+#include "support/scenes.hpp"
+#include "support/test_devices.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace clsph;
+using namespace clsph::surface;
+
+namespace {
+
+Particles random_cloud(const Scene& scene, std::mt19937_64& rng) {
+    const Particles base = scene.build_particles();
+    const double dp = scene.physics.dp;
+    std::uniform_real_distribution<double> jitter(-0.2 * dp, 0.2 * dp), u(0, 1);
+    Particles p;
+    std::uint32_t id = 0;
+    for (std::size_t i = 0; i < base.size(); ++i) {
+        const bool fluid = base.type[i] == ParticleType::fluid;
+        if (fluid && base.position[i][2] > 0.12 && u(rng) < 0.05) continue;  // holes in the upper part
+        auto x = base.position[i];
+        if (fluid)  // off the lattice by a quarter spacing, then jittered: never across a block face
+            for (auto& c : x) c += 0.25 * dp + jitter(rng);
+        p.push_back(id++, base.type[i], x, {0, 0, 0}, base.density[i], 0);
+    }
+    for (int k = 0; k < 300; ++k) {  // spray over the tank
+        const std::array<double, 3> x{0.3 * u(rng), 0.3 * u(rng), 0.2 + 0.1 * u(rng)};
+        p.push_back(id++, ParticleType::fluid, x, {0, 0, 0}, static_cast<float>(scene.physics.rho0), 0);
+    }
+    return p;
+}
+
+BlockLattice lattice_of(const Scene& scene) {
+    BlockLattice L;
+    L.spacing = 0.5 * scene.physics.dp;
+    for (std::size_t a = 0; a < 3; ++a) {
+        L.origin[a] = scene.domain.min[a];
+        L.blocks[a] = static_cast<std::uint32_t>(std::ceil((scene.domain.max[a] - scene.domain.min[a]) / L.edge()) + 1);
+    }
+    return L;
+}
+
+}  // namespace
+
+TEST_SUITE("surface") {
+TEST_CASE("the surface's active blocks and their field on the device, as plain C++ on a random cloud") {
+    Scene scene = test::small_tank(0.3, 0.2);  // made 0.3 m wide, so that blocks inside are full
+    scene.domain.max[1] = 0.34;
+    scene.walls[0].max[1] = 0.3;
+    scene.fluids[0].max[1] = 0.3;
+    auto rng = test::rng(0x5e7face);
+    const Particles particles = random_cloud(scene, rng);
+    const BlockLattice L = lattice_of(scene);
+    const auto full = static_cast<std::uint32_t>(std::ceil(0.9 * std::pow(L.edge() / scene.physics.dp, 3)));
+    std::vector<std::array<double, 3>> fluid;
+    for (std::size_t i = 0; i < particles.size(); ++i)
+        if (particles.type[i] == ParticleType::fluid) fluid.push_back(particles.position[i]);
+    const auto want = active_blocks_reference(fluid, L, full);
+    MESSAGE(particles.size() << " particles, " << want.size() << " of " << L.count() << " blocks active");
+    REQUIRE(want.size() > 20);
+    // Full blocks inside are left out: fewer than the blocks with fluid in or next to them.
+    const auto wet = active_blocks_reference(fluid, L, 0xffffffffu);
+    MESSAGE((wet.size() - want.size()) << " blocks left out as inside");
+    REQUIRE(want.size() < wet.size());
+
+    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), 0, scene.domain.periodic);
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        device::Physics phys(*d, grid, scene);
+        device::CellPipeline cells(*d, grid);
+        device::ParticleStore ps(*d, grid, particles.size());
+        ps.upload(particles);
+        cells.run(ps);
+        DeviceSurface s(*d, grid, phys, L);
+        s.count(ps);
+        REQUIRE(s.activate(full) == want.size());
+        CHECK(s.active_keys() == want);
+
+        // The field of a few blocks (the first, the last and random ones) against the probes.
+        s.sample(ps, cells, 0, grid.params().n_s);
+        std::vector<std::size_t> slots{0, want.size() - 1};
+        std::uniform_int_distribution<std::size_t> pick(0, want.size() - 1);
+        for (int k = 0; k < 6; ++k) slots.push_back(pick(rng));
+        double worst = 0, largest = 0;
+        for (const auto slot : slots) {
+            const auto c = L.coords(want[slot]);
+            std::vector<std::array<double, 3>> points;
+            for (std::uint32_t z = 0; z < kBlockSamples; ++z)
+                for (std::uint32_t y = 0; y < kBlockSamples; ++y)
+                    for (std::uint32_t x = 0; x < kBlockSamples; ++x)
+                        points.push_back({L.origin[0] + L.spacing * (c[0] * kBlockCubes + x),
+                                          L.origin[1] + L.spacing * (c[1] * kBlockCubes + y),
+                                          L.origin[2] + L.spacing * (c[2] * kBlockCubes + z)});
+            const auto ref = phys.probe(ps, cells, points);
+            const auto got = s.read_block(slot);
+            for (std::size_t q = 0; q < points.size(); ++q) {
+                worst = std::max(worst, std::abs(double(got[q]) - double(ref[q][0])));
+                largest = std::max(largest, double(ref[q][0]));
+            }
+        }
+        MESSAGE("field of " << slots.size() << " blocks: largest fraction " << largest << ", worst difference " << worst);
+        CHECK(largest > 0.5);
+        CHECK(worst < 1e-4);
+    }
+}
+}
