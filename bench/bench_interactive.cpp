@@ -15,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> overrides;
     std::vector<double> dps{0.00468, 0.003925, 0.002207, 0.001864};  // ~298 k, 504 k, 1.94 M, 3.05 M particles
     int frames = 10, warmup = 3, settle = 50;
+    bool profile = false;
     app.add_option("--devices", devices, "device selection");
     app.add_option("--scene", scene_path, "scene file");
     app.add_option("--set", overrides, "scene overrides KEY=VALUE (repeatable)");
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
     app.add_option("--warmup", warmup, "untimed frames first");
     app.add_option("--settle", settle, "steps before the first frame (the water starts moving)");
     app.add_option("--png", png, "write the last image of the last size here");
+    app.add_flag("--profile", profile, "per-kernel device time of the frames (surface.*, render.*), per size");
     CLI11_PARSE(app, argc, argv);
     try {
         std::printf("## Interactive frames, %s, %s\n\n", scene_path.c_str(), clsph::bench::today().c_str());
@@ -59,6 +62,7 @@ int main(int argc, char** argv) {
             clsph::Options opts;
             opts.devices = devices;
             opts.synchronous = true;  // each frame's step ends before its surface: timed apart
+            opts.profile = profile;
             clsph::Simulation sim(scene, opts);
             if (i == 0)
                 for (const auto& n : sim.device_names()) std::printf("device: %s\n", n.c_str());
@@ -80,6 +84,18 @@ int main(int argc, char** argv) {
                     picture.push_back(ti);
                     frame.push_back(tp + ti);
                 }
+            }
+            if (profile) {
+                auto k = sim.profile();
+                std::sort(k.begin(), k.end(), [](const auto& a, const auto& b) { return a.seconds > b.seconds; });
+                double total = 0;
+                for (const auto& e : k)
+                    if (e.name.rfind("surface", 0) == 0 || e.name.rfind("render", 0) == 0) total += e.seconds;
+                std::fprintf(stderr, "dp %.5f: surface.* + render.* device time %.2f ms per frame; top launches:\n", dps[i],
+                             1e3 * total / (warmup + frames));
+                for (std::size_t e = 0; e < k.size() && e < 14; ++e)
+                    std::fprintf(stderr, "  %-28s %8zu calls %9.3f ms per frame\n", k[e].name.c_str(), k[e].calls,
+                                 1e3 * k[e].seconds / (warmup + frames));
             }
             std::size_t triangles = 0;
             for (int r = 0; r < 3; ++r) {
