@@ -6,8 +6,8 @@
 //                    neighbours are nearly full (inside)
 //   (scan)           each active block's slot, in block-key order
 //   surface_compact  the active blocks' keys and lattice corners, by slot
-//   surface_field    per sample of an active block: the fluid fraction sum V_j W (probe_sums.h), 0
-//                    outside the columns [col_lo, col_hi) this device owns
+//   surface_field    per sample of an active block: the fluid fraction sum V_j W, 0 outside the
+//                    columns [col_lo, col_hi) this device owns; a work-group per block
 //   surface_gather   the blocks one device meshes, when several share the surface
 //   surface_slots    a dense map block key -> slot, for the weld
 //   surface_weld     per vertex of marching_cubes.cl (one per crossing edge of each block): the
@@ -98,32 +98,114 @@ inline bool locate_axis(const float x, const float cell, const uint n, const uin
     return true;
 }
 
-__kernel void surface_field(const uint blocks, const float spacing, const uint col_lo, const uint col_hi,
-                            const uint cells, const GridParams g, const SphParams sp,
-                            __global const int4* block_at, __global const uint* cell_key,
-                            __global const uint* cell_start, __global const float4* pos,
-                            __global const float4* velrho, __global const uint* ids, __global float* field) {
-    const uint gid = get_global_id(0);
-    if (gid >= blocks * SURFACE_PER_BLOCK) return;
-    const uint b = gid / SURFACE_PER_BLOCK, p = gid - b * SURFACE_PER_BLOCK;
-    const int4 at = block_at[b];
-    const float3 x = spacing * (float3)((float)(at.x + (int)(p % SURFACE_SAMPLES)),
-                                        (float)(at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES)),
-                                        (float)(at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES))));
-    uint s, a, bb;
-    float os, oa, ob;
-    float value = 0.0f;
-    if (locate_axis(S_OF(x), g.cell_s, g.n_s, 0u, &s, &os) && s >= col_lo && s < col_hi &&
-        locate_axis(A_OF(x), g.cell_a, g.n_a, g.periodic_a, &a, &oa) &&
-        locate_axis(B_OF(x), g.cell_b, g.n_b, 0u, &bb, &ob)) {
-        float4 q;
-        S_OF(q) = os;
-        A_OF(q) = oa;
-        B_OF(q) = ob;
-        q.w = as_float(make_key(g, s, a, bb));
-        value = probe_sums_at(q, cells, g, sp, cell_key, cell_start, pos, velrho, ids).x;
+// A work-group per block (SURFACE_WG work-items, each a few of its 729 samples): the fluid
+// particles of every row of cells within the support of the block are staged in local memory a
+// chunk at a time and tested by all its samples, instead of each sample searching its own rows.
+#ifndef SURFACE_WG
+#define SURFACE_WG 128
+#endif
+#define SURFACE_PER_ITEM ((SURFACE_PER_BLOCK + SURFACE_WG - 1) / SURFACE_WG)
+
+// The cells [lo, hi] along one key axis that hold particles within `reach` of [x0, x1].
+inline void cell_span(const float x0, const float x1, const float reach, const float cell, const uint n,
+                      const uint periodic, int* lo, int* hi) {
+    *lo = (int)floor((x0 - reach) / cell);
+    *hi = (int)floor((x1 + reach) / cell);
+    if (periodic) {
+        if (*hi - *lo + 1 > (int)n) *hi = *lo + (int)n - 1;
+    } else {
+        *lo = max(*lo, 0);
+        *hi = min(*hi, (int)n - 1);
     }
-    field[gid] = value;
+}
+
+__kernel __attribute__((reqd_work_group_size(SURFACE_WG, 1, 1)))
+void surface_field(const uint blocks, const float spacing, const uint col_lo, const uint col_hi,
+                   const uint cells, const GridParams g, const SphParams sp,
+                   __global const int4* block_at, __global const uint* cell_key,
+                   __global const uint* cell_start, __global const float4* pos,
+                   __global const float4* velrho, __global const uint* ids, __global float* field) {
+    __local float4 stage_pos[SURFACE_WG];
+    __local float stage_v[SURFACE_WG];
+    __local uint row[2];
+    const uint b = get_group_id(0), lid = get_local_id(0);
+    const float mass = sp.mass, support2 = sp.support2, support = sqrt(sp.support2);
+    if (b >= blocks) return;  // whole groups only: the barriers below stay uniform
+    const int4 at = block_at[b];
+    // This item's samples: where they are (offset + key, as particles are), 0 where not sampled.
+    float4 q[SURFACE_PER_ITEM];
+    uint qkey[SURFACE_PER_ITEM];
+    float sum[SURFACE_PER_ITEM];
+    bool live[SURFACE_PER_ITEM];
+    for (uint k = 0; k < SURFACE_PER_ITEM; ++k) {
+        const uint p = lid + k * SURFACE_WG;
+        sum[k] = 0.0f;
+        live[k] = false;
+        qkey[k] = g.invalid_key;
+        q[k] = (float4)(0.0f);
+        if (p >= SURFACE_PER_BLOCK) continue;
+        const float3 x = spacing * (float3)((float)(at.x + (int)(p % SURFACE_SAMPLES)),
+                                            (float)(at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES)),
+                                            (float)(at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES))));
+        uint s, a, bb;
+        float os, oa, ob;
+        if (locate_axis(S_OF(x), g.cell_s, g.n_s, 0u, &s, &os) && s >= col_lo && s < col_hi &&
+            locate_axis(A_OF(x), g.cell_a, g.n_a, g.periodic_a, &a, &oa) &&
+            locate_axis(B_OF(x), g.cell_b, g.n_b, 0u, &bb, &ob)) {
+            S_OF(q[k]) = os;
+            A_OF(q[k]) = oa;
+            B_OF(q[k]) = ob;
+            qkey[k] = make_key(g, s, a, bb);
+            q[k].w = as_float(qkey[k]);
+            live[k] = true;
+        }
+    }
+    // The block's rows: cells within the support of its samples' box.
+    const float3 x0 = spacing * (float3)((float)at.x, (float)at.y, (float)at.z);
+    const float3 x1 = x0 + spacing * (float)SURFACE_CUBES;
+    int s_lo, s_hi, a_lo, a_hi, b_lo, b_hi;
+    cell_span(S_OF(x0), S_OF(x1), support, g.cell_s, g.n_s, 0u, &s_lo, &s_hi);
+    cell_span(A_OF(x0), A_OF(x1), support, g.cell_a, g.n_a, g.periodic_a, &a_lo, &a_hi);
+    cell_span(B_OF(x0), B_OF(x1), support, g.cell_b, g.n_b, 0u, &b_lo, &b_hi);
+    for (int s = s_lo; s <= s_hi; ++s)
+        for (int a0 = a_lo; a0 <= a_hi; ++a0) {
+            const int a = a0 < 0 ? a0 + (int)g.n_a : a0 >= (int)g.n_a ? a0 - (int)g.n_a : a0;
+            barrier(CLK_LOCAL_MEM_FENCE);
+            if (lid == 0u) {
+                uint begin = 0u, end = 0u;
+                if (b_lo <= b_hi) {
+                    begin = cell_start[lower_bound_key(cell_key, cells, make_key(g, (uint)s, (uint)a, (uint)b_lo))];
+                    end = cell_start[lower_bound_key(cell_key, cells, make_key(g, (uint)s, (uint)a, (uint)b_hi) + 1u)];
+                }
+                row[0] = begin;
+                row[1] = end;
+            }
+            barrier(CLK_LOCAL_MEM_FENCE);
+            const uint begin = row[0], end = row[1];
+            for (uint first = begin; first < end; first += SURFACE_WG) {
+                const uint j = first + lid;
+                if (j < end) {
+                    stage_pos[lid] = pos[j];
+                    stage_v[lid] = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? mass / velrho[j].w : 0.0f;
+                }
+                barrier(CLK_LOCAL_MEM_FENCE);
+                const uint n = min((uint)SURFACE_WG, end - first);
+                for (uint k = 0; k < SURFACE_PER_ITEM; ++k) {
+                    if (!live[k]) continue;
+                    for (uint t = 0; t < n; ++t) {
+                        const float4 pj = stage_pos[t];
+                        const float3 d = relative_position(g, qkey[k], q[k], pos_key(pj), pj);
+                        const float r2 = dot(d, d);
+                        if (r2 < support2) sum[k] += stage_v[t] * kernel_w(&sp, sqrt(r2));
+                    }
+                }
+                barrier(CLK_LOCAL_MEM_FENCE);
+            }
+        }
+    for (uint k = 0; k < SURFACE_PER_ITEM; ++k) {
+        const uint p = lid + k * SURFACE_WG;
+        if (p < SURFACE_PER_BLOCK) field[b * SURFACE_PER_BLOCK + p] = sum[k];
+    }
 }
 
 __kernel void surface_slots(const uint blocks, __global const uint* active, __global uint* slot_of) {

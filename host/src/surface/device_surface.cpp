@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <unordered_map>
 
 namespace clsph::surface {
@@ -20,8 +21,9 @@ DeviceSurface::DeviceSurface(cl_rt::Device& device, const device::Grid& grid, co
       lattice_(lattice),
       scan_(device, device::Scan::Config{0, 0, "surface.scan"}),
       mc_(device),
-      wg_(device.work_group_size(128)) {
-    const std::string& opts = physics.point_options();
+      wg_(device.work_group_size(128)),
+      field_wg_(device.work_group_size(256)) {
+    const std::string opts = physics.point_options() + " -DSURFACE_WG=" + std::to_string(field_wg_);
     count_k_ = device.kernel("surface.cl", "surface_count", opts);
     flag_k_ = device.kernel("surface.cl", "surface_flag", opts);
     compact_k_ = device.kernel("surface.cl", "surface_compact", opts);
@@ -88,7 +90,7 @@ void DeviceSurface::sample(device::ParticleStore& store, const device::CellPipel
     cl_rt::set_args(field_k_, cl_rt::checked_uint(blocks_), static_cast<float>(lattice_.spacing), col_lo, col_hi,
                     cl_rt::checked_uint(cells.cells()), grid_.params(), physics_.params(), block_at_, cells.cell_key(),
                     cells.cell_start(), store.pos, store.velrho, store.id, field_);
-    device_.launch("surface.field", field_k_, samples, wg_);
+    device_.launch("surface.field", field_k_, blocks_ * field_wg_, field_wg_);  // a work-group per block
 }
 
 std::vector<float> DeviceSurface::read_block(std::size_t slot) {

@@ -84,7 +84,7 @@ private:
     device::Scan scan_;
     MarchingCubes mc_;
     cl::Kernel count_k_, flag_k_, compact_k_, field_k_, gather_k_, slots_k_, weld_k_, welded_k_, remap_k_;
-    std::size_t wg_;
+    std::size_t wg_, field_wg_;
     cl_rt::Buffer counts_, active_, block_at_, field_;
     std::size_t blocks_ = 0;  // active blocks (kept)
     // The welded mesh: float4 positions and normals, uint2 edges, 3 uint per triangle.
