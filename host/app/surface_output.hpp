@@ -13,12 +13,16 @@ namespace clsph::app {
 class SurfaceOutput {
 public:
     // every: simulated seconds between surfaces (0: at every frame); render: also an image of each
-    // surface, DIR/render_NNNNN.png (clsph/render.hpp).
-    SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {}, bool render = false);
+    // surface, DIR/render_NNNNN.png (clsph/render.hpp: Simulation::image, so the scene's
+    // render.method applies); meshes false (images only, with the splat method): no surface is
+    // computed or written, only the images.
+    SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {}, bool render = false,
+                  bool meshes = true);
     // Called at each frame; writes a surface when one is due (the first frame always).
     void at_frame(Simulation& sim);
     // Writes the surface of `mesh` at `time` (and its image, rendered by `sim`).
     void write(double time, const TriangleMesh& mesh, Simulation& sim);
+    bool meshes() const { return meshes_; }
     // With images: an MP4 of them through ffmpeg when it is installed; returns what happened.
     std::string make_video() const;
     std::size_t written() const { return count_; }
@@ -31,6 +35,7 @@ private:
     bool ply_;
     SurfaceOptions options_;
     bool render_;
+    bool meshes_;
     PvdWriter pvd_;
     std::size_t count_ = 0;
     double next_ = 0;

@@ -137,9 +137,11 @@ public:
     // An image of `surface` (from surface()) with the scene's solid boxes and walls, seen by
     // `camera`: each device draws the triangles over its own slab, the host keeps the nearest.
     Image render(const TriangleMesh& surface, const CameraView& camera);
-    // An image of the state now as the scene's render settings draw it, seen by `camera`: today
-    // the free surface (surface()) rendered by render(). The one entry point for a picture of the
-    // running simulation (the tool's frames, the live view, Python's sim.image).
+    // An image of the state now as the scene's render settings draw it, seen by `camera`: with
+    // render.method "surface" the free surface (surface()) rendered by render(); with "splat" the
+    // fluid particles splatted and shaded in screen space, no mesh (docs/scenes.md, render). The
+    // one entry point for a picture of the running simulation (the tool's frames, the live view,
+    // Python's sim.image).
     Image image(const CameraView& camera);
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)

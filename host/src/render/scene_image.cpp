@@ -6,9 +6,7 @@
 #include <memory>
 
 namespace clsph::render {
-namespace {
 
-// A box as 12 triangles with face normals (outwards).
 TriangleMesh box_mesh(const std::vector<SolidBox>& boxes) {
     TriangleMesh m;
     for (const auto& b : boxes) {
@@ -50,8 +48,6 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
                 }
     return lines;
 }
-
-}  // namespace
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
                    const CameraView& camera) {

@@ -40,7 +40,11 @@ Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) 
 }
 
 Image Simulation::image(const CameraView& camera) {
-    return render(surface(), camera);
+    auto& m = *impl_;
+    if (m.scene.render.method == RenderMethod::surface) return render(surface(), camera);
+    m.driver.one_process("images");
+    return cl_rt::guarded("rendering an image by splats", "",
+                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera); });
 }
 
 }  // namespace clsph
