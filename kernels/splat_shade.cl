@@ -8,44 +8,53 @@
 #define SPLAT_EMPTY 0xffffffffu
 
 // One pass of the bilateral filter along x (axis 0) or y (axis 1): neighbours within `world`
-// metres (in pixels at the pixel's depth, at most max_px) weighted by their distance and by how
-// far their depth is from this pixel's (sigma `sigma_z`), so separate sheets of water stay apart.
+// metres (in pixels at the pixel's depth, at most max_px) weighted by a Gaussian of their distance,
+// those whose depth is more than `gap` from this pixel's left out (another sheet of water, or the
+// far side of a silhouette). A soft range weight would blur only along lines of equal depth and
+// streak a surface seen at a grazing angle; with a cut-off the filter of a plane is the plane.
+// The thickness (float metres) is blurred by the same Gaussian, pixels without water counting as
+// none, so it loses the lattice's ripple and fades at the rim.
 __kernel void splat_smooth(const uint2 size, const float4 view, const uint axis, const uint max_px,
-                           __global const uint* in, __global uint* out) {
+                           __global const uint* in, __global const float* in_thick, __global uint* out,
+                           __global float* out_thick) {
     const int w = (int)size.x, h = (int)size.y;
-    const float scale = view.x, world = view.y, sigma_z = view.z;
+    const float scale = view.x, world = view.y, gap = view.z;
     const int dx = axis == 0u ? 1 : 0, dy = axis == 0u ? 0 : 1;
     const int limit = (int)max_px;
     __global const uint* const p_in = in;
+    __global const float* const p_in_thick = in_thick;
     __global uint* const p_out = out;
+    __global float* const p_out_thick = out_thick;
     const int i = (int)get_global_id(0);
     if (i >= w * h) return;
     const uint centre = p_in[i];
-    if (centre == SPLAT_EMPTY) {
-        p_out[i] = SPLAT_EMPTY;
+    const float radius = centre == SPLAT_EMPTY ? 0.0f : fmin((float)limit, scale * world / as_float(centre));
+    const int reach = (int)radius;
+    if (reach < 1) {
+        p_out[i] = centre;
+        p_out_thick[i] = p_in_thick[i];
         return;
     }
     const int x = i % w, y = i / w;
     const float zc = as_float(centre);
-    const float radius = fmin((float)limit, scale * world / zc);
-    const int reach = (int)radius;
-    if (reach < 1) {
-        p_out[i] = centre;
-        return;
-    }
-    const float inv_s = 1.0f / (2.0f * 0.25f * radius * radius), inv_z = 1.0f / (2.0f * sigma_z * sigma_z);
-    float sum = 0.0f, weights = 0.0f;
+    const float inv_s = 1.0f / (2.0f * 0.25f * radius * radius);
+    float sum = 0.0f, weights = 0.0f, thick = 0.0f, all = 0.0f;
     for (int k = -reach; k <= reach; ++k) {
         const int xx = x + k * dx, yy = y + k * dy;
         if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-        const uint b = p_in[yy * w + xx];
+        const int at = yy * w + xx;
+        const float wt = exp(-(float)(k * k) * inv_s);
+        thick += wt * p_in_thick[at];
+        all += wt;
+        const uint b = p_in[at];
         if (b == SPLAT_EMPTY) continue;
-        const float z = as_float(b), dz = z - zc;
-        const float wt = exp(-(float)(k * k) * inv_s - dz * dz * inv_z);
+        const float z = as_float(b);
+        if (fabs(z - zc) > gap) continue;
         sum += wt * z;
         weights += wt;
     }
     p_out[i] = as_uint(sum / weights);
+    p_out_thick[i] = thick / all;
 }
 
 typedef struct {
@@ -120,10 +129,11 @@ inline float3 view_point(const Shading* s, const int x, const int y, const float
     return z * (float3)(((float)x + 0.5f - s->cx) / s->scale, (s->cy - (float)y - 0.5f) / s->scale, 1.0f);
 }
 
-// The difference to the neighbour along (dx, dy) on the side whose depth is closer (a silhouette
-// on one side does not bend the normal); false when neither neighbour has water.
+// The surface's step to the next pixel along (dx, dy): the central difference, or where a
+// neighbour is missing or beyond `gap` in depth (a silhouette), the one-sided difference on the
+// side whose depth is closer; false when neither neighbour has water.
 inline bool surface_step(const Shading* s, __global const uint* depth, const int x, const int y, const int dx,
-                         const int dy, const float3 here, float3* d) {
+                         const int dy, const float3 here, const float gap, float3* d) {
     const int xa = x + dx, ya = y + dy, xb = x - dx, yb = y - dy;
     const bool a = xa >= 0 && ya >= 0 && xa < s->w && ya < s->h && depth[ya * s->w + xa] != SPLAT_EMPTY;
     const bool b = xb >= 0 && yb >= 0 && xb < s->w && yb < s->h && depth[yb * s->w + xb] != SPLAT_EMPTY;
@@ -131,19 +141,23 @@ inline bool surface_step(const Shading* s, __global const uint* depth, const int
     const float3 pa = a ? view_point(s, xa, ya, as_float(depth[ya * s->w + xa])) : here;
     const float3 pb = b ? view_point(s, xb, yb, as_float(depth[yb * s->w + xb])) : here;
     const float3 da = pa - here, db = here - pb;
-    *d = (!b || (a && fabs(da.z) <= fabs(db.z))) ? da : db;
+    if (a && b && fabs(da.z) < gap && fabs(db.z) < gap)
+        *d = 0.5f * (da + db);
+    else
+        *d = (!b || (a && fabs(da.z) <= fabs(db.z))) ? da : db;
     return true;
 }
 
 // The picture: water where its (smoothed) depth is in front of the solids, else what lies behind.
 // view: (scale, cx, cy, refraction offset in pixels at full thickness); sky: (world up, eye height);
-// ground: (sun direction, checker tile); absorb: per-channel absorption per metre, w the metres of
-// a thickness count; tint: the colour deep water tends to; edge: the thickness (m) over which
-// water goes from clear to opaque at its rim (x) and of a full refraction offset (y).
+// ground: (sun direction, checker tile); absorb: per-channel absorption per metre (thickness in
+// metres, smoothed); tint: the colour deep water tends to; edge: the thickness (m) over which
+// water goes from clear to opaque at its rim (x), of a full refraction offset (y), and the depth
+// step (m) that is a silhouette rather than a slope (z).
 __kernel void splat_shade(const uint2 size, const float4 view, const float4 right, const float4 up,
                           const float4 forward, const float4 eye, const float4 sky, const float4 ground,
                           const float4 absorb, const float4 tint, const float4 edge, __global const uint* water,
-                          __global const uint* thickness, __global const uint* solid_depth,
+                          __global const float* thickness, __global const uint* solid_depth,
                           __global const uint* solid_colour, __global uint* colour, __global uint* depth) {
     Shading s;
     s.right = right.xyz;
@@ -161,9 +175,9 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     s.tile = ground.w;
     const float refract_px = view.w;
     const float3 sigma = absorb.xyz, deep = tint.xyz;
-    const float unit = absorb.w, rim = edge.x, full = edge.y;
+    const float rim = edge.x, full = edge.y, gap = edge.z;
     __global const uint* const p_water = water;
-    __global const uint* const p_thick = thickness;
+    __global const float* const p_thick = thickness;
     __global const uint* const p_sd = solid_depth;
     __global const uint* const p_sc = solid_colour;
     __global uint* const p_colour = colour;
@@ -182,7 +196,7 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     // The normal from the depth image, in camera coordinates, turned to face the eye.
     const float3 here = view_point(&s, x, y, as_float(wd));
     float3 ddx, ddy, n = (float3)(0.0f, 0.0f, -1.0f);
-    if (surface_step(&s, p_water, x, y, 1, 0, here, &ddx) && surface_step(&s, p_water, x, y, 0, 1, here, &ddy)) {
+    if (surface_step(&s, p_water, x, y, 1, 0, here, gap, &ddx) && surface_step(&s, p_water, x, y, 0, 1, here, gap, &ddy)) {
         const float3 c = cross(ddx, ddy);
         const float len = length(c);
         if (len > 0.0f) n = c / len;
@@ -196,7 +210,7 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     float t;
     const float3 reflected = environment(&s, mirror, &t);
     // Through the water: the background displaced along the normal, more where the water is thicker.
-    const float thick = (float)p_thick[i] * unit;
+    const float thick = p_thick[i];
     const float shift = refract_px * fmin(thick / full, 1.0f);
     uint ignored;
     const float3 seen = behind(&s, (int)floor((float)x + 0.5f + n.x * shift), (int)floor((float)y + 0.5f - n.y * shift),

@@ -33,7 +33,7 @@ Environment environment_of(const Scene& scene, const CameraView& camera) {
     if (!(fluid > 0)) fluid = extent;
     env.ground = ground;
     env.tile = extent / 12;
-    for (std::size_t c = 0; c < 3; ++c) env.absorb[c] = std::array<double, 3>{1.6, 0.45, 0.25}[c] / fluid;
+    for (std::size_t c = 0; c < 3; ++c) env.absorb[c] = std::array<double, 3>{3.5, 1.1, 0.55}[c] / fluid;
     env.radius = kSplatRadius * scene.physics.dp;
     return env;
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace clsph::render {
 namespace {
@@ -23,7 +24,8 @@ V unit(const V& v) {
 }
 
 constexpr int kSmoothRounds = 2;       // x then y, twice
-constexpr double kFilterRadii = 3.0;   // the filter's reach in splat radii
+constexpr double kFilterRadii = 4.0;   // the filter's reach in splat radii
+constexpr double kGapRadii = 10.0;     // a depth step of this many radii is a silhouette, not a slope
 constexpr std::uint32_t kMaxFilterPx = 24;
 
 }  // namespace
@@ -45,13 +47,16 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
 
     auto depth_a = device_.alloc(pixels * sizeof(cl_uint), "splat shade depth");
     auto depth_b = device_.alloc(pixels * sizeof(cl_uint), "splat shade smoothed depth");
-    auto thick = device_.alloc(pixels * sizeof(cl_uint), "splat shade thickness");
+    auto thick = device_.alloc(pixels * sizeof(cl_float), "splat shade thickness");
+    auto thick_b = device_.alloc(pixels * sizeof(cl_float), "splat shade smoothed thickness");
     auto solid_depth = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid depth");
     auto solid_colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid colour");
     auto colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade colour");
     auto out_depth = device_.alloc(pixels * sizeof(cl_uint), "splat shade out depth");
     device_.write(depth_a, water.depth.data(), pixels);
-    device_.write(thick, water.thickness.data(), pixels);
+    std::vector<float> metres(pixels);  // counts to metres: the filter blurs the thickness as a float
+    for (std::size_t p = 0; p < pixels; ++p) metres[p] = static_cast<float>(water.thickness[p] * water.unit);
+    device_.write(thick, metres.data(), pixels);
     if (have_solids) {
         device_.write(solid_depth, solids.depth.data(), pixels);
         device_.write(solid_colour, solids.colour.data(), pixels);
@@ -60,14 +65,15 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
         device_.fill(solid_colour, cl_uint(0), pixels);
     }
 
-    // Smoothing: the filter reaches kFilterRadii splat radii; depths within a radius or so blend.
+    // Smoothing: the filter reaches kFilterRadii splat radii; depths within kGapRadii blend.
     const cl_float4 filter{{static_cast<float>(b.scale), static_cast<float>(kFilterRadii * env.radius),
-                            static_cast<float>(env.radius), 0.0f}};
+                            static_cast<float>(kGapRadii * env.radius), 0.0f}};
     for (int round = 0; round < kSmoothRounds; ++round)
         for (cl_uint axis = 0; axis < 2; ++axis) {
-            cl_rt::set_args(smooth_k_, size, filter, axis, cl_uint(kMaxFilterPx), depth_a, depth_b);
+            cl_rt::set_args(smooth_k_, size, filter, axis, cl_uint(kMaxFilterPx), depth_a, thick, depth_b, thick_b);
             device_.launch("splat.smooth", smooth_k_, pixels, wg_);
             std::swap(depth_a, depth_b);
+            std::swap(thick, thick_b);
         }
 
     const V up = unit(env.up);
@@ -75,9 +81,10 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
     const double refract_px = 0.03 * camera.height;
     const cl_float4 view{{static_cast<float>(b.scale), static_cast<float>(b.cx), static_cast<float>(b.cy),
                           static_cast<float>(refract_px)}};
-    const cl_float4 edge{{static_cast<float>(0.5 * env.radius), static_cast<float>(20 * env.radius), 0.0f, 0.0f}};
+    const cl_float4 edge{{static_cast<float>(0.5 * env.radius), static_cast<float>(20 * env.radius),
+                          static_cast<float>(kGapRadii * env.radius), 0.0f}};
     cl_rt::set_args(shade_k_, size, view, f4(b.right), f4(b.up), f4(b.forward), f4(b.eye), f4(up, eye_height),
-                    f4(unit(env.sun), env.tile), f4(env.absorb, water.unit), f4(env.deep), edge, depth_a, thick,
+                    f4(unit(env.sun), env.tile), f4(env.absorb), f4(env.deep), edge, depth_a, thick,
                     solid_depth, solid_colour, colour, out_depth);
     device_.launch("splat.shade", shade_k_, pixels, wg_);
 
