@@ -216,9 +216,13 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     const float3 seen = behind(&s, (int)floor((float)x + 0.5f + n.x * shift), (int)floor((float)y + 0.5f - n.y * shift),
                                p_sd, p_sc, &ignored);
     const float3 kept = exp(-sigma * thick);
-    const float3 through = seen * kept + deep * (1.0f - kept);
+    // The light the water scatters back is brighter where its surface faces the sun (the shape
+    // reads even where the reflection is only haze).
+    const float facing = 0.55f + 0.45f * fmax(dot(nw, s.sun), 0.0f);
+    const float3 through = seen * kept + facing * deep * (1.0f - kept);
     float3 c = mix(through, reflected, fresnel);
-    c += 0.9f * pow(fmax(dot(mirror, s.sun), 0.0f), 180.0f) * (float3)(1.0f, 0.97f, 0.9f);
+    const float glint = dot(mirror, s.sun);
+    c += (0.9f * pow(fmax(glint, 0.0f), 180.0f) + 0.12f * pow(fmax(glint, 0.0f), 12.0f)) * (float3)(1.0f, 0.97f, 0.9f);
     // A single drop's rim is clear: fade to the background over the first `rim` of thickness.
     c = mix(back, c, 1.0f - exp(-thick / rim));
     p_colour[i] = pack_rgb(c);

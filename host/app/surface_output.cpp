@@ -21,8 +21,9 @@ SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOpt
       ply_(ply),
       options_(options),
       render_(render),
-      meshes_(meshes || !render),
-      pvd_(dir_ + "/surface.pvd") {}
+      meshes_(meshes || !render) {
+    if (meshes_) pvd_.emplace(dir_ + "/surface.pvd");
+}
 
 void SurfaceOutput::at_frame(Simulation& sim) {
     const double t = sim.time();
@@ -42,7 +43,8 @@ void SurfaceOutput::write(double time, const TriangleMesh& mesh, Simulation& sim
     std::snprintf(name, sizeof name, "surface_%05zu", count_);
     write_vtp(dir_ + "/" + name + ".vtp", mesh);
     if (ply_) write_ply(dir_ + "/" + name + ".ply", mesh);
-    pvd_.add(time, std::string(name) + ".vtp");
+    if (!pvd_) pvd_.emplace(dir_ + "/surface.pvd");
+    pvd_->add(time, std::string(name) + ".vtp");
     if (render_) {  // the mesh at hand when the scene draws surfaces, else the scene's own method
         const CameraView camera = camera_for(sim.scene());
         const bool surface = sim.scene().render.method == RenderMethod::surface;

@@ -6,6 +6,7 @@
 #include <clsph/mesh.hpp>
 #include <clsph/simulation.hpp>
 
+#include <optional>
 #include <string>
 
 namespace clsph::app {
@@ -26,7 +27,7 @@ public:
     // With images: an MP4 of them through ffmpeg when it is installed; returns what happened.
     std::string make_video() const;
     std::size_t written() const { return count_; }
-    const std::string& collection_path() const { return pvd_.path(); }
+    std::string collection_path() const { return pvd_ ? pvd_->path() : std::string(); }
     const SurfaceOptions& options() const { return options_; }
 
 private:
@@ -36,7 +37,7 @@ private:
     SurfaceOptions options_;
     bool render_;
     bool meshes_;
-    PvdWriter pvd_;
+    std::optional<PvdWriter> pvd_;  // surface.pvd: only when meshes are written
     std::size_t count_ = 0;
     double next_ = 0;
 };

@@ -54,7 +54,7 @@ struct Environment {
     double tile = 0.1;              // m
     Vec3 sun{0.35, -0.45, 0.82};    // towards the sun (normalised where used)
     std::array<double, 3> absorb{6.0, 1.8, 0.9};  // per metre, red absorbed most
-    std::array<double, 3> deep{0.02, 0.16, 0.26};  // the colour deep water tends to
+    std::array<double, 3> deep{0.03, 0.22, 0.33};  // the colour deep water tends to
     double radius = 0.01;           // the splats' radius, m (the filter's and the rim's scale)
 };
 
