@@ -173,7 +173,7 @@ TEST_CASE("splats: the same scene on one device and on three gives the same imag
         Options o;
         o.devices = test::device_spec(count);
         Simulation sim(s, o);
-        for (int i = 0; i < 30; ++i) sim.step();
+        for (int i = 0; i < 10; ++i) sim.step();  // the particles moved and migrated a little
         Image im = sim.image(camera_for(s));
         if (const char* dir = std::getenv("CLSPH_TEST_IMAGES"))
             write_png(std::string(dir) + "/splat_" + std::to_string(count) + ".png", im);
