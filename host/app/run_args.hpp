@@ -44,6 +44,7 @@ struct RunArgs {
     std::string on_device_failure = "stop";
     bool render = false;                      // --render: an image per surface (implies --surface)
     bool video = false;                       // --video: an MP4 of the images (implies --render)
+    std::string render_method;                // --render-method surface|splat; empty: the scene's render.method
     std::vector<std::string> command_line;    // argv, for run.json
     // clsph resume: the output directory to go on in (frames, stats and probes continue there).
     std::string resume_dir;
@@ -57,6 +58,8 @@ struct RunArgs {
     bool wants_surface() const {
         return surface || surface_every || surface_ply || surface_spacing > 0 || render || video;
     }
+    // Surface meshes asked for themselves (not only for images): any but --render and --video.
+    bool wants_meshes() const { return surface || surface_every || surface_ply || surface_spacing > 0; }
 };
 
 // The most steps --steps takes (a run of 10^12 steps is years on any machine; more is a typo).

@@ -62,7 +62,9 @@ int run_command(const RunArgs& given) {
         throw Error("--no-checkpoint with --on-device-failure continue: going on after a device failure starts from a "
                     "checkpoint; drop one of them");
     const auto start = std::chrono::steady_clock::now();
-    const Scene scene = load_scene(args.scene_path, args.overrides);
+    Scene scene = load_scene(args.scene_path, args.overrides);
+    if (!args.render_method.empty())  // --render-method: recorded in run.json's scene with the rest
+        scene.render.method = args.render_method == "splat" ? RenderMethod::splat : RenderMethod::surface;
     const RunPlan plan = make_plan(args, scene);
     if (args.dry_run) return with_scene_path(args, [&] { return dry_run(scene, args, plan); });
     if (!args.resume_dir.empty()) return resume_run(scene, args, plan, start);

@@ -57,7 +57,9 @@ public:
                   filter_),
           surfaces_(args.wants_surface()
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
-                                                          SurfaceOptions{args.surface_spacing, 0.5}, args.render || args.video)
+                                                          SurfaceOptions{args.surface_spacing, 0.5}, args.render || args.video,
+                                                          args.wants_meshes() ||
+                                                              sim.scene().render.method == RenderMethod::surface)
                         : nullptr),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {
         if (resume_) {
@@ -200,7 +202,10 @@ private:
         }
         print_summary(std::cout, totals_);
         if (surfaces_ && surfaces_->written() > 0) {
-            std::cout << "  surfaces: " << surfaces_->written() << " in " << surfaces_->collection_path() << '\n';
+            if (surfaces_->meshes())
+                std::cout << "  surfaces: " << surfaces_->written() << " in " << surfaces_->collection_path() << '\n';
+            else
+                std::cout << "  images: " << surfaces_->written() << " (render_NNNNN.png, splats: no surface meshes)\n";
             if (args_.video) std::cout << "  " << surfaces_->make_video() << '\n';
         }
         if (args_.profile && code != exit_device_failed) {

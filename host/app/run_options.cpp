@@ -108,7 +108,13 @@ void add_surface_options(CLI::App& run, RunArgs& a) {
         ->type_name("M")
         ->group(surface_group);
     run.add_flag("--render", a.render,
-                 "an image of the surface at every surface: render_NNNNN.png (implies --surface; default: off)")
+                 "an image at every surface: render_NNNNN.png (implies --surface with the surface method; default: off)")
+        ->group(surface_group);
+    run.add_option("--render-method", a.render_method,
+                   "how images draw the water: surface (the mesh rasterised) or splat (particles as spheres, shaded in "
+                   "screen space; no mesh) (default: the scene's render.method)")
+        ->check(CLI::IsMember({"surface", "splat"}))
+        ->type_name("NAME")
         ->group(surface_group);
     run.add_flag("--video", a.video,
                  "and an MP4 of the images at the end, if ffmpeg is installed (implies --render; default: off)")

@@ -5,13 +5,35 @@
 
 namespace clsph::app {
 
-SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options, bool render)
-    : dir_(std::move(dir)), every_(every), ply_(ply), options_(options), render_(render), pvd_(dir_ + "/surface.pvd") {}
+namespace {
+
+void write_image(const std::string& dir, std::size_t count, const Image& image) {
+    char name[32];
+    std::snprintf(name, sizeof name, "render_%05zu.png", count);
+    write_png(dir + "/" + name, image);
+}
+
+}  // namespace
+
+SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options, bool render, bool meshes)
+    : dir_(std::move(dir)),
+      every_(every),
+      ply_(ply),
+      options_(options),
+      render_(render),
+      meshes_(meshes || !render) {
+    if (meshes_) pvd_.emplace(dir_ + "/surface.pvd");
+}
 
 void SurfaceOutput::at_frame(Simulation& sim) {
     const double t = sim.time();
     if (count_ > 0 && every_ > 0 && t < next_ - 1e-9 * every_) return;
-    write(t, sim.surface(options_), sim);
+    if (meshes_) {
+        write(t, sim.surface(options_), sim);
+    } else {  // images by splats: no mesh needed
+        write_image(dir_, count_, sim.image(camera(sim)));
+        ++count_;
+    }
     if (every_ > 0)
         while (next_ <= t + 1e-9 * every_) next_ += every_;
 }
@@ -21,11 +43,12 @@ void SurfaceOutput::write(double time, const TriangleMesh& mesh, Simulation& sim
     std::snprintf(name, sizeof name, "surface_%05zu", count_);
     write_vtp(dir_ + "/" + name + ".vtp", mesh);
     if (ply_) write_ply(dir_ + "/" + name + ".ply", mesh);
-    pvd_.add(time, std::string(name) + ".vtp");
-    if (render_) {
-        char image[32];
-        std::snprintf(image, sizeof image, "render_%05zu.png", count_);
-        write_png(dir_ + "/" + image, sim.render(mesh, camera_for(sim.scene())));
+    if (!pvd_) pvd_.emplace(dir_ + "/surface.pvd");
+    pvd_->add(time, std::string(name) + ".vtp");
+    if (render_) {  // the mesh at hand when the scene draws surfaces, else the scene's own method
+        const CameraView& view = camera(sim);
+        const bool surface = sim.scene().render.method == RenderMethod::surface;
+        write_image(dir_, count_, surface ? sim.render(mesh, view) : sim.image(view));
     }
     ++count_;
 }

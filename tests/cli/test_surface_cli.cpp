@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 
 #include <doctest/doctest.h>
 
@@ -91,4 +92,32 @@ TEST_CASE("clsph run --render and clsph render: a PNG per surface, a note or a v
     code = run({"render", out}, log);
     CHECK(code == 0);
     CHECK(clsph::read_png(out + "/render_00000.png").width == 320);
+}
+
+TEST_CASE("clsph run --render --render-method splat: a PNG per frame, no surface; a bad method is refused") {
+    const std::string out = work_dir("render_splat");
+    std::string log;
+    int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--render", "--render-method",
+                                                "splat", "--set", "render.size=[320,180]", "--out", out}}),
+                   log);
+    INFO(log);
+    REQUIRE(code == 0);
+    const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
+    REQUIRE(!frames.empty());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        char name[48];
+        std::snprintf(name, sizeof name, "/render_%05zu.png", i);
+        const clsph::Image im = clsph::read_png(out + name);
+        CHECK(im.width == 320);
+        CHECK(im.height == 180);
+    }
+    CHECK(!fs::exists(out + "/surface_00000.vtp"));  // splats need no mesh
+    CHECK(!fs::exists(out + "/surface.pvd"));
+    // The method is recorded with the scene in run.json.
+    std::ifstream record(out + "/run.json");
+    const std::string text((std::istreambuf_iterator<char>(record)), std::istreambuf_iterator<char>());
+    CHECK(text.find("\"method\": \"splat\"") != std::string::npos);
+    code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--render-method", "mesh", "--out", out + "_bad"}}), log);
+    CHECK(code != 0);
+    CHECK(log.find("--render-method") != std::string::npos);
 }

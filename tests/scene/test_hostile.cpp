@@ -82,6 +82,8 @@ const std::vector<Mistake> cpp_only = {
     {"NaN domain", [](clsph::Scene& s) { s.domain.max[0] = nan; }, "domain.max: expected 3 finite numbers"},
     {"infinite end time", [](clsph::Scene& s) { s.run.end_time = std::numeric_limits<double>::infinity(); }, "run.end_time: must be a finite time >= 0 s"},
     {"NaN fixed dt", [](clsph::Scene& s) { s.run.fixed_dt = nan; }, "run.fixed_dt: must be a finite time >= 0 s"},
+    // JSON spells only the two names (an unknown one: tests/scene/corpus/render_method_bad.json).
+    {"a render method out of range", [](clsph::Scene& s) { s.render.method = static_cast<clsph::RenderMethod>(7); }, "render.method: must be \"surface\" or \"splat\""},
     {"a mesh path that is /dev/null", [](clsph::Scene& s) { s.meshes.push_back({"/dev/null", nan, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/dev/null\": it is not a regular file"},
 };
 

@@ -25,7 +25,8 @@ const char* full_scene = R"({
   "probes": [{"name": "P1", "kind": "pressure", "point": [0.1, 0.2, 0.05]},
              {"name": "H1", "kind": "height", "point": [1.2, 0.2]},
              {"name": "S1", "kind": "pressure", "point": [0, 0.2, 0.1], "normal": [2, 0, 0], "size": 0.02}],
-  "run": {"end_time": 0.75, "output_every": 0.05, "probe_every": 3}
+  "run": {"end_time": 0.75, "output_every": 0.05, "probe_every": 3},
+  "render": {"method": "splat", "size": [640, 360]}
 })";
 
 }  // namespace
@@ -69,6 +70,8 @@ TEST_CASE("every key of a scene file reaches the Scene") {
     CHECK(s.run.end_time == 0.75);
     CHECK(s.run.output_every == 0.05);
     CHECK(s.run.probe_every == 3);
+    CHECK(s.render.method == clsph::RenderMethod::splat);
+    CHECK(s.render.width == 640);
 }
 
 TEST_CASE("omitted keys take the documented defaults") {
@@ -85,6 +88,7 @@ TEST_CASE("omitted keys take the documented defaults") {
     CHECK(s.domain.split_axis == -1);
     CHECK(s.walls.empty());
     CHECK(s.run.end_time == clsph::RunControl{}.end_time);
+    CHECK(s.render.method == clsph::RenderMethod::surface);
 }
 
 TEST_CASE("to_json writes every default and reads back to the same scene") {
@@ -98,6 +102,7 @@ TEST_CASE("to_json writes every default and reads back to the same scene") {
     CHECK(back.probes[0].normal == s.probes[0].normal);
     CHECK(back.probes[2].normal == s.probes[2].normal);
     CHECK(back.probes[2].size == s.probes[2].size);
+    CHECK(back.render.method == clsph::RenderMethod::splat);
     CHECK(text.find(R"("normal": [)") != std::string::npos);
     CHECK(text.find(R"("size": 0.02)") != std::string::npos);
 
@@ -106,7 +111,7 @@ TEST_CASE("to_json writes every default and reads back to the same scene") {
     const std::string resolved = minimal.to_json();
     for (const char* key : {"\"hdp\"", "\"kernel\": \"wendland\"", "\"diffusion\": \"fourtakas\"", "\"periodic\"",
                             "\"split_axis\": \"auto\"", "\"velocity\"", "\"surface\": null", "\"output_every\"",
-                            "\"normal\": null"})
+                            "\"normal\": null", "\"method\": \"surface\""})
         CHECK_MESSAGE(resolved.find(key) != std::string::npos, key);
     CHECK(clsph::Scene::from_json_text(resolved, "resolved.json").to_json() == resolved);
 }

@@ -106,8 +106,13 @@ struct RunControl {
     Interaction interaction = Interaction::automatic;  // the interaction form (clsph/interaction.hpp)
 };
 
+// How water is drawn (render.method): the free surface meshed and rasterised, or the fluid
+// particles splatted as spheres and shaded in screen space (no mesh; docs/scenes.md, render).
+enum class RenderMethod { surface, splat };
+
 // How frames are rendered (clsph/render.hpp). Without a camera the view frames the domain.
 struct RenderSettings {
+    RenderMethod method = RenderMethod::surface;
     bool has_camera = false;
     Vec3 eye{0, 0, 0}, target{0, 0, 0}, up{0, 0, 1};
     double fov_deg = 40.0;

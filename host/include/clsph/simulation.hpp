@@ -137,10 +137,12 @@ public:
     // An image of `surface` (from surface()) with the scene's solid boxes and walls, seen by
     // `camera`: each device draws the triangles over its own slab, the host keeps the nearest.
     Image render(const TriangleMesh& surface, const CameraView& camera);
-    // An image of the state now as the scene's render settings draw it, seen by `camera`: the free
-    // surface made and drawn on the devices, nothing but the images leaving them (render() of
-    // surface() draws the same picture). The one entry point for a picture of the running
-    // simulation (the live view, Python's sim.image).
+    // An image of the state now as the scene's render settings draw it, seen by `camera`: with
+    // render.method "surface" the free surface made and drawn on the devices, nothing but the
+    // images leaving them (render() of surface() draws the same picture); with "splat" the fluid
+    // particles splatted and shaded in screen space, no mesh (docs/scenes.md, render). The one
+    // entry point for a picture of the running simulation (the tool's frames, the live view,
+    // Python's sim.image).
     Image image(const CameraView& camera);
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)

@@ -30,13 +30,12 @@ V unit(const V& a) {
     return {a[0] / l, a[1] / l, a[2] / l};
 }
 
-struct Basis {
-    V eye, right, up, forward;
-    double scale, cx, cy;
-};
+cl_float4 f4(const V& v) { return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 0.0f}}; }
 
-Basis basis(const CameraView& c) {
-    Basis b;
+}  // namespace
+
+CameraBasis camera_basis(const CameraView& c) {
+    CameraBasis b;
     b.eye = c.eye;
     b.forward = unit(sub(c.target, c.eye));
     b.right = unit(cross(b.forward, c.up));
@@ -46,10 +45,6 @@ Basis basis(const CameraView& c) {
     b.cy = 0.5 * c.height;
     return b;
 }
-
-cl_float4 f4(const V& v) { return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 0.0f}}; }
-
-}  // namespace
 
 Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_group_size(64)) {
     const std::string opts = device.quirks().atomic_min_unreliable ? "-DCLSPH_DEPTH_BY_CAS" : "";
@@ -88,7 +83,7 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
 }
 
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
-    const Basis b = basis(camera);
+    const CameraBasis b = camera_basis(camera);
     KernelCamera kc{};
     kc.eye = f4(b.eye);
     kc.right = f4(b.right);
@@ -145,7 +140,7 @@ DepthImage composite(const std::vector<DepthImage>& images) {
 
 void draw_lines(DepthImage& im, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
                 std::array<std::uint8_t, 3> rgb) {
-    const Basis b = basis(camera);
+    const CameraBasis b = camera_basis(camera);
     const std::uint32_t packed = rgb[0] | (std::uint32_t{rgb[1]} << 8) | (std::uint32_t{rgb[2]} << 16) | (255u << 24);
     for (const auto& line : lines) {
         const V d0 = sub(line[0], b.eye), d1 = sub(line[1], b.eye);

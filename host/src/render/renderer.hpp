@@ -27,6 +27,13 @@ struct DeviceLayer {
     std::size_t count = 0;  // triangles
     std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
 };
+// The camera as the kernels take it: the eye, three unit axes (right, up, forward) and the image
+// plane's scale (pixels per unit of x / z) and centre.
+struct CameraBasis {
+    std::array<double, 3> eye, right, up, forward;
+    double scale, cx, cy;
+};
+CameraBasis camera_basis(const CameraView& camera);
 
 struct DepthImage {
     std::uint32_t width = 0, height = 0;

@@ -6,12 +6,13 @@
 #include <memory>
 
 namespace clsph::render {
-namespace {
 
 // A box as triangles with face normals (outwards), each face a grid of kFaceCells^2 squares: the
 // rasteriser gives a triangle to one work-item, so a face in two triangles covering half the
 // picture would be drawn by two work-items alone (4 ms of the H200's frame, measured).
+namespace {
 constexpr int kFaceCells = 24;
+}  // namespace
 
 TriangleMesh box_mesh(const std::vector<SolidBox>& boxes) {
     TriangleMesh m;
@@ -58,6 +59,8 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
                 }
     return lines;
 }
+
+namespace {
 
 constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
 

@@ -187,8 +187,9 @@ RunControl read_run(const Json& v) {
 }
 
 RenderSettings read_render(const Json& v) {
-    Fields f(v, "render", {"camera", "size"});
+    Fields f(v, "render", {"method", "camera", "size"});
     RenderSettings r;
+    r.method = f.choice("method", r.method, {{"surface", RenderMethod::surface}, {"splat", RenderMethod::splat}});
     if (const Json* c = f.find("camera")) {
         Fields cf(*c, "render.camera", {"eye", "target", "up", "fov"});
         r.has_camera = true;

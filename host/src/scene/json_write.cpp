@@ -130,6 +130,7 @@ Json scene_to_document(const Scene& s) {
     run["interaction"] = interaction_name(s.run.interaction);
     doc["run"] = run;
     Json render;
+    render["method"] = s.render.method == RenderMethod::splat ? "splat" : "surface";
     if (s.render.has_camera) {
         Json cam;
         cam["eye"] = vec(s.render.eye);

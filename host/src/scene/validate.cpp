@@ -197,6 +197,8 @@ void Scene::validate() const {
     require(std::isfinite(run.fixed_dt) && run.fixed_dt >= 0, "run.fixed_dt",
             "must be a finite time >= 0 s (0: the adaptive CFL step)");
 
+    require(render.method == RenderMethod::surface || render.method == RenderMethod::splat, "render.method",
+            "must be \"surface\" or \"splat\"");
     require(render.width > 0 && render.height > 0 && render.width <= 16384 && render.height <= 16384, "render.size",
             "width and height must be 1 to 16384 pixels");
     if (render.has_camera) {

@@ -42,11 +42,14 @@ Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) 
 Image Simulation::image(const CameraView& camera) {
     auto& m = *impl_;
     m.driver.one_process("images");
-    return cl_rt::guarded("rendering an image", "", [&] {
-        // The surface stays where the devices made it; each draws its own part.
-        const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, {});
-        return render::render_scene(m.driver, m.scene, parts, camera);
-    });
+    if (m.scene.render.method == RenderMethod::surface)
+        return cl_rt::guarded("rendering an image", "", [&] {
+            // The surface stays where the devices made it; each draws its own part.
+            const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, {});
+            return render::render_scene(m.driver, m.scene, parts, camera);
+        });
+    return cl_rt::guarded("rendering an image by splats", "",
+                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera); });
 }
 
 }  // namespace clsph

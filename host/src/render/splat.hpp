@@ -1,0 +1,79 @@
+// Screen-space fluid rendering (render.method "splat", docs/scenes.md): no mesh. Each device
+// splats its own fluid particles as spheres into a depth image and a thickness image
+// (kernels/splat.cl); the host composites the devices' images (nearest depth, summed thickness:
+// only images cross devices); one device smooths the depth, takes normals from it and shades the
+// water over the solids, the ground and the sky (kernels/splat_shade.cl).
+#pragma once
+#include "cl/device.hpp"
+#include "clsph/render.hpp"
+#include "device/grid.hpp"
+#include "device/particle_arrays.hpp"
+#include "render/renderer.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace clsph::render {
+
+// Splat radius in particle spacings (spheres on a lattice of dp overlap a little, so the water has
+// no holes between them), and the metres of one thickness count in sphere radii.
+constexpr double kSplatRadius = 0.6;
+constexpr double kThicknessUnit = 1.0 / 1024;
+
+struct SplatImage {
+    std::uint32_t width = 0, height = 0;
+    std::vector<std::uint32_t> depth;      // bits of a positive float (along forward); all ones: none
+    std::vector<std::uint32_t> thickness;  // chord lengths summed, in counts of `unit` metres
+    double unit = 0;
+};
+
+// The splat pass on one device: depth and thickness images of particles [first, first + count)
+// of `particles` (boundary particles and particles with the invalid key skipped).
+class Splatter {
+public:
+    Splatter(cl_rt::Device& device, const device::Grid& grid);
+    SplatImage draw(const CameraView& camera, const device::ParticleArrays& particles, std::size_t first,
+                    std::size_t count, double radius);
+
+private:
+    cl_rt::Device& device_;
+    const device::Grid& grid_;
+    cl::Kernel splat_k_;
+    std::size_t wg_;
+};
+
+// The devices' splat images as one: the nearest depth and the sum of the thicknesses, pixel by
+// pixel (the sum is exact, so the result does not depend on how the particles were split).
+SplatImage composite(const std::vector<SplatImage>& images);
+
+// Where the picture sits in the world, for the shading: which way is up (against gravity), the
+// ground plane's height along it, the checker's tile, the sun, the water's absorption.
+struct Environment {
+    Vec3 up{0, 0, 1};
+    double ground = 0;              // the ground plane: points x with dot(x, up) == ground
+    double tile = 0.1;              // m
+    Vec3 sun{0.35, -0.45, 0.82};    // towards the sun (normalised where used)
+    std::array<double, 3> absorb{6.0, 1.8, 0.9};  // per metre, red absorbed most
+    std::array<double, 3> deep{0.03, 0.22, 0.33};  // the colour deep water tends to
+    double radius = 0.01;           // the splats' radius, m (the filter's and the rim's scale)
+};
+
+// Smoothing, normals and shading on one device: the water of `water` over `solids` (the solids'
+// depth image, from Renderer::draw; empty images: none), the ground and the sky. The result's
+// depth is the water's, the solids' or the ground's (for the walls' lines drawn after).
+class SplatShader {
+public:
+    explicit SplatShader(cl_rt::Device& device);
+    DepthImage shade(const CameraView& camera, const SplatImage& water, const DepthImage& solids, const Environment& env);
+
+private:
+    cl_rt::Device& device_;
+    cl::Kernel smooth_k_, shade_k_;
+    std::size_t wg_;
+};
+
+// Device bytes per pixel: of the splat pass on each device, and of the shading on its device.
+constexpr std::size_t kSplatBytesPerPixel = 8;
+constexpr std::size_t kShadeBytesPerPixel = 32;
+
+}  // namespace clsph::render

@@ -1,0 +1,83 @@
+// Screen-space fluid rendering, the splat pass (host/src/render/splat.cpp): each fluid particle a
+// device owns is a sphere of radius `radius`, intersected exactly with the ray of every pixel its
+// bounding square covers. A pixel keeps the nearest hit's depth (distance along the camera's
+// forward axis, as kernels/render.cl keeps it) with a 32-bit atomic_min on the float's bits, and
+// sums the chord lengths through every sphere it sees (the fluid's thickness) in fixed point with
+// atomic_add: integer sums do not depend on the order of the additions, so the thickness is the
+// same whichever device draws which particle and the images of several devices add up exactly.
+#include "grid.h"
+
+// The nearest depth so far, as kernels/render.cl (-DCLSPH_DEPTH_BY_CAS: the quirks layer's
+// compare-and-swap loop where a driver's atomic_min loses writes).
+inline void splat_depth_min(volatile __global uint* p, const uint v) {
+#ifdef CLSPH_DEPTH_BY_CAS
+    uint old = *p;
+    while (v < old) {
+        const uint prev = atomic_cmpxchg(p, old, v);
+        if (prev == old) break;
+        old = prev;
+    }
+#else
+    atomic_min(p, v);
+#endif
+}
+
+// Particles [first, first + count) of the store. `lo` is the domain's min corner minus the eye
+// (the host subtracts in double, so positions near a far-away eye keep their resolution), view is
+// (pixels per unit of x / z, image centre x, y, sphere radius), unit the metres of one thickness
+// count. Boundary particles and particles waiting to leave (invalid key) are not drawn.
+__kernel void splat_particles(const uint first, const uint count, const GridParams g, const float4 lo,
+                              const float4 right, const float4 up, const float4 forward, const float4 view,
+                              const uint2 size, const float unit, __global const float4* pos,
+                              __global const uint* ids, __global uint* depth, __global uint* thickness) {
+    // Every argument read before any branch (Mesa rusticl 22.3: see kernels/render.cl).
+    const GridParams gp = g;
+    const float3 origin = lo.xyz, ax = right.xyz, ay = up.xyz, az = forward.xyz;
+    const float scale = view.x, cx = view.y, cy = view.z, r = view.w;
+    const int w = (int)size.x, h = (int)size.y;
+    const float inv_unit = 1.0f / unit;
+    __global const float4* const p_pos = pos;
+    __global const uint* const p_ids = ids;
+    __global uint* const p_depth = depth;
+    __global uint* const p_thick = thickness;
+    const uint begin = first, n = count;
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float4 p = p_pos[begin + i];
+    if ((p_ids[begin + i] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) return;
+    const uint key = pos_key(p);
+    if (key == gp.invalid_key) return;
+    float3 cell;
+    COMP(cell, AXIS_S) = ((float)key_s(gp, key) + 0.5f) * gp.cell_s;
+    COMP(cell, AXIS_A) = ((float)key_a(gp, key) + 0.5f) * gp.cell_a;
+    COMP(cell, AXIS_B) = ((float)key_b(gp, key) + 0.5f) * gp.cell_b;
+    const float3 x = origin + cell + p.xyz;  // the centre, relative to the eye
+    const float3 c = (float3)(dot(x, ax), dot(x, ay), dot(x, az));  // camera axes: right, up, forward
+    if (c.z <= 1.01f * r) return;  // behind the eye or around it
+    // The sphere's silhouette lies within scale * r / sqrt(z^2 - r^2) of the projected centre
+    // (exactly, on the axis; off axis the projection stretches, by 1 / cos^2 of the angle at most).
+    const float px = cx + scale * c.x / c.z, py = cy - scale * c.y / c.z;
+    const float k = scale * r / sqrt(c.z * c.z - r * r);
+    const float stretch = 1.0f + (c.x * c.x + c.y * c.y) / (c.z * c.z);
+    const float reach = k * stretch + 1.0f;
+    const int x0 = max(0, (int)floor(px - reach)), x1 = min(w - 1, (int)ceil(px + reach));
+    const int y0 = max(0, (int)floor(py - reach)), y1 = min(h - 1, (int)ceil(py + reach));
+    if (x1 < x0 || y1 < y0 || (x1 - x0 + 1) * (y1 - y0 + 1) > 1 << 18) return;  // off screen, or at the lens
+    const float r2 = r * r;
+    for (int y = y0; y <= y1; ++y)
+        for (int xx = x0; xx <= x1; ++xx) {
+            // The pixel's ray (u, v, 1), unit direction d; the centre's distance from it through
+            // the perpendicular vector itself (no difference of two large squares).
+            const float3 ray = (float3)(((float)xx + 0.5f - cx) / scale, (cy - (float)y - 0.5f) / scale, 1.0f);
+            const float3 d = normalize(ray);
+            const float along = dot(c, d);
+            const float3 perp = c - along * d;
+            const float miss2 = dot(perp, perp);
+            if (miss2 >= r2) continue;
+            const float half_chord = sqrt(r2 - miss2);
+            const float z = (along - half_chord) * d.z;  // the front hit's depth along forward
+            const uint at = (uint)y * (uint)w + (uint)xx;
+            splat_depth_min(&p_depth[at], as_uint(z));
+            atomic_add(&p_thick[at], max(1u, (uint)(2.0f * half_chord * inv_unit + 0.5f)));  // drawn: at least 1
+        }
+}
