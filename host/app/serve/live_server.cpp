@@ -22,7 +22,8 @@ namespace {
 // machine; each image request holds one while the run thread renders.
 constexpr std::size_t server_threads = 6;
 constexpr std::size_t max_body_bytes = 1024;  // the page's requests carry no body
-constexpr auto frame_wait = std::chrono::milliseconds(2000);
+// An image of a large state on a CPU device can take seconds (the first one also builds kernels).
+constexpr auto frame_wait = std::chrono::milliseconds(10000);
 
 const char* content_type(const std::string& name) {
     auto ends = [&](const char* ext) {

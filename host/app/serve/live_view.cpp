@@ -125,7 +125,10 @@ void LiveView::render_wanted(Simulation& sim, std::unique_lock<std::mutex>& lock
     lock.lock();
     if (!error.empty()) error_ = error;
     ++frames_rendered_;
-    const auto took = std::chrono::duration_cast<clock::duration>((end - start) * render_spacing);
+    // While paused there is no run to share the thread with; the first image (which builds the
+    // surface and render kernels) says nothing about the next.
+    const bool first = frames_rendered_ == 1;
+    const auto took = paused_ || first ? clock::duration{} : std::chrono::duration_cast<clock::duration>((end - start) * render_spacing);
     next_render_ = end + std::max<clock::duration>(frame_interval, took);
     // Results nobody came back for (their request timed out) are dropped after a while.
     for (auto it = done_.begin(); it != done_.end();) it = end - it->second.at > std::chrono::seconds(10) ? done_.erase(it) : std::next(it);
