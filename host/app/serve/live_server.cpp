@@ -134,7 +134,7 @@ void LiveServer::routes() {
         const auto parsed = parse_orbit(req.params, home_orbit_, scene_size_);
         if (!parsed.orbit) return reply_error(res, 400, parsed.error);
         std::string why;
-        const auto image = view_.frame(camera_of(*parsed.orbit, home_), frame_wait, why);
+        const auto image = view_.frame(camera_of(*parsed.orbit, home_), parsed.orbit->style, frame_wait, why);
         if (!image) return reply_error(res, 503, why);
         res.set_header("Cache-Control", "no-store");
         res.set_content(encode_jpeg(*image), "image/jpeg");  // here, on this server thread

@@ -16,8 +16,8 @@ constexpr auto frame_interval = std::chrono::microseconds(1000000 / 30);  // 30 
 // took r seconds, the next waits max(1/30 s, render_spacing * r).
 constexpr double render_spacing = 2.0;
 
-bool same_camera(const CameraView& a, const CameraView& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_deg == b.fov_deg &&
+bool same_view(const CameraView& a, const ImageStyle& sa, const CameraView& b, const ImageStyle& sb) {
+    return sa.surface == sb.surface && a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_deg == b.fov_deg &&
            a.width == b.width && a.height == b.height;
 }
 
@@ -101,9 +101,10 @@ void LiveView::render_wanted(Simulation& sim, std::unique_lock<std::mutex>& lock
     if (wanted_.empty() || start < next_render_) return;
     // The oldest view asked for, and every request for the same view with it.
     const CameraView camera = wanted_.front().camera;
+    const ImageStyle style = wanted_.front().style;
     std::vector<std::uint64_t> tickets;
     for (auto it = wanted_.begin(); it != wanted_.end();) {
-        if (same_camera(it->camera, camera)) {
+        if (same_view(it->camera, it->style, camera, style)) {
             tickets.push_back(it->ticket);
             it = wanted_.erase(it);
         } else {
@@ -114,7 +115,7 @@ void LiveView::render_wanted(Simulation& sim, std::unique_lock<std::mutex>& lock
     std::shared_ptr<const Image> image;
     std::string error;
     try {
-        image = std::make_shared<const Image>(sim.image(camera));
+        image = std::make_shared<const Image>(sim.image(camera, style));
     } catch (const DeviceError&) {
         lock.lock();
         throw;  // a device failure is the run's, reported as any other
@@ -175,7 +176,8 @@ void LiveView::finished(const std::string& outcome) {
     frame_ready_.notify_all();
 }
 
-std::shared_ptr<const Image> LiveView::frame(const CameraView& camera, std::chrono::milliseconds wait, std::string& why) {
+std::shared_ptr<const Image> LiveView::frame(const CameraView& camera, const ImageStyle& style, std::chrono::milliseconds wait,
+                                             std::string& why) {
     std::unique_lock<std::mutex> lock(mutex_);
     auto ended = [&] { return state_ != "setting up" && state_ != "running" && state_ != "paused"; };
     if (ended()) {
@@ -187,7 +189,7 @@ std::shared_ptr<const Image> LiveView::frame(const CameraView& camera, std::chro
         return nullptr;
     }
     const std::uint64_t ticket = next_ticket_++;
-    wanted_.push_back(Wanted{ticket, camera});
+    wanted_.push_back(Wanted{ticket, camera, style});
     run_wakes_.notify_one();
     const bool ready = frame_ready_.wait_for(lock, wait, [&] { return done_.count(ticket) > 0 || ended(); });
     if (!ready || !done_.count(ticket)) {

@@ -50,7 +50,8 @@ public:
     // --- server threads ---
     // An image seen by `camera`, rendered by the run thread; none when the run has ended, the
     // image did not come within `wait`, or too many different views wait already (`why` says which).
-    std::shared_ptr<const Image> frame(const CameraView& camera, std::chrono::milliseconds wait, std::string& why);
+    std::shared_ptr<const Image> frame(const CameraView& camera, const ImageStyle& style, std::chrono::milliseconds wait,
+                                       std::string& why);
     void pause();
     void resume();
     void step_once();  // while paused: one step, then paused again
@@ -64,6 +65,7 @@ private:
     struct Wanted {
         std::uint64_t ticket;
         CameraView camera;
+        ImageStyle style;
     };
     struct Done {
         std::shared_ptr<const Image> image;  // null: rendering failed

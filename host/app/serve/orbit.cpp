@@ -57,9 +57,17 @@ OrbitOrError parse_orbit(const std::multimap<std::string, std::string>& params, 
             out.error = "the camera parameter '" + key + "' is given more than once";
             return out;
         }
+        if (key == "colour") {
+            if (text != "surface" && text != "device") {
+                out.error = "colour must be surface or device, got '" + text.substr(0, 40) + "'";
+                return out;
+            }
+            o.style.surface = text == "device" ? SurfaceColour::by_device : SurfaceColour::uniform;
+            continue;
+        }
         const auto v = number(text);
         if (key != "az" && key != "el" && key != "dist" && key != "w" && key != "h" && key != "t") {
-            out.error = "unknown camera parameter '" + key + "' (az, el, dist, w, h)";
+            out.error = "unknown camera parameter '" + key + "' (az, el, dist, w, h, colour)";
             return out;
         }
         if (!v) {

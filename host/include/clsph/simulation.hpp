@@ -136,11 +136,11 @@ public:
     TriangleMesh surface(const SurfaceOptions& options = {});
     // An image of `surface` (from surface()) with the scene's solid boxes and walls, seen by
     // `camera`: each device draws the triangles over its own slab, the host keeps the nearest.
-    Image render(const TriangleMesh& surface, const CameraView& camera);
+    Image render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style = {});
     // An image of the state now as the scene's render settings draw it, seen by `camera`: today
     // the free surface (surface()) rendered by render(). The one entry point for a picture of the
     // running simulation (the tool's frames, the live view, Python's sim.image).
-    Image image(const CameraView& camera);
+    Image image(const CameraView& camera, const ImageStyle& style = {});
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
     std::vector<KernelTime> host_phases() const;  // host wall time per step phase

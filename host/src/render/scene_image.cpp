@@ -52,9 +52,29 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 }
 
 }  // namespace
+}  // namespace clsph::render
+
+namespace clsph {
+
+std::array<float, 3> device_colour(std::size_t d) {
+    // Eight colours told apart at a glance, none the grey of the solids.
+    static constexpr std::array<std::array<float, 3>, 8> palette{{{0.30f, 0.55f, 0.92f},
+                                                                  {0.95f, 0.55f, 0.20f},
+                                                                  {0.35f, 0.75f, 0.35f},
+                                                                  {0.85f, 0.30f, 0.35f},
+                                                                  {0.60f, 0.45f, 0.85f},
+                                                                  {0.90f, 0.80f, 0.30f},
+                                                                  {0.30f, 0.80f, 0.80f},
+                                                                  {0.85f, 0.50f, 0.75f}}};
+    return palette[d % palette.size()];
+}
+
+}  // namespace clsph
+
+namespace clsph::render {
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
-                   const CameraView& camera) {
+                   const CameraView& camera, const ImageStyle& style) {
     auto& slabs = driver.slabs();
     // Each surface triangle to the slab owning the column of its centroid.
     const int split = grid.axis(0);
@@ -79,7 +99,8 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
         std::vector<Layer> layers;
-        layers.push_back({&surface, mine[d], {0.30f, 0.55f, 0.92f}});
+        const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : std::array<float, 3>{0.30f, 0.55f, 0.92f};
+        layers.push_back({&surface, mine[d], colour});
         if (d == 0) layers.push_back({&solids, all_solids, {0.62f, 0.60f, 0.58f}});
         Renderer r(*slabs[d].device);
         images.push_back(r.draw(camera, layers));

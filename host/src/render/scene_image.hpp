@@ -10,6 +10,6 @@
 namespace clsph::render {
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
-                   const CameraView& camera);
+                   const CameraView& camera, const ImageStyle& style = {});
 
 }  // namespace clsph::render

@@ -33,14 +33,14 @@ TriangleMesh Simulation::surface(const SurfaceOptions& options) {
                           [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options); });
 }
 
-Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
+Image Simulation::render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
     m.driver.one_process("images");
-    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera); });
+    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera, style); });
 }
 
-Image Simulation::image(const CameraView& camera) {
-    return render(surface(), camera);
+Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
+    return render(surface(), camera, style);
 }
 
 }  // namespace clsph

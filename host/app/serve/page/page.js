@@ -33,7 +33,8 @@ function frameSize() {
 
 function frameUrl() {
   const [w, h] = frameSize();
-  const q = new URLSearchParams({az: orbit.az.toFixed(3), el: orbit.el.toFixed(3), dist: orbit.dist.toPrecision(6), w, h});
+  const q = new URLSearchParams({az: orbit.az.toFixed(3), el: orbit.el.toFixed(3), dist: orbit.dist.toPrecision(6), w, h,
+                                 colour: document.getElementById("colour").value});
   return "frame.jpg?" + q.toString();
 }
 
