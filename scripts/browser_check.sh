@@ -23,9 +23,8 @@ for _ in $(seq 120); do
   sleep 0.5
 done
 shot=${CLSPH_BROWSER_SHOT:-$work/page.png}
-# --virtual-time-budget lets the page's scripts run (and pull frames) before the screenshot.
-chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1280,800 \
-  --virtual-time-budget=15000 --screenshot="$shot" "http://127.0.0.1:$port/" >"$work/chromium.log" 2>&1
+# The page's load (and so the screenshot) waits for its first image, the scene camera's.
+chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --window-size=1280,800 --screenshot="$shot" "http://127.0.0.1:$port/" >"$work/chromium.log" 2>&1
 python3 - "$shot" <<'PY'
 import sys, zlib, struct
 # A PNG reader for Chromium's 8-bit RGB(A) screenshots (no imaging library needed).
