@@ -16,7 +16,7 @@ port=${CLSPH_BROWSER_PORT:-8765}
   --set 'boundaries.walls[0].max=[0.584,0.1752,0.365]' --until 100 --every 50 --no-checkpoint \
   --devices platform:pocl --out "$work/out" --serve "$port" >"$work/run.log" 2>&1 &
 run=$!
-trap 'kill -TERM $run 2>/dev/null; wait $run 2>/dev/null; rm -rf "$work"' EXIT
+trap 'kill -TERM $run 2>/dev/null || true; wait $run 2>/dev/null || true; rm -rf "$work"' EXIT
 # Until the run steps and an image has been rendered once (the first builds the render kernels).
 for _ in $(seq 120); do
   curl -sf -o /dev/null "http://127.0.0.1:$port/frame.jpg?w=64&h=36" && break

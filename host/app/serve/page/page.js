@@ -150,7 +150,13 @@ function drawProbes() {
     const top = k * band + 4, h = band - 8;
     ctx.strokeStyle = "#2a3038";
     ctx.strokeRect(0.5, top + 0.5, canvas.width - 1, h);
-    if (!isFinite(lo)) continue;
+    if (!isFinite(lo)) {  // no finite sample yet (a pressure probe out of the fluid)
+      const line = document.createElement("div");
+      line.style.color = colours[k];
+      line.textContent = probeNames[k] + ": –";
+      legend.appendChild(line);
+      continue;
+    }
     if (hi === lo) { hi += 1e-9; lo -= 1e-9; }
     ctx.strokeStyle = colours[k];
     ctx.beginPath();
