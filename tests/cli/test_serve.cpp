@@ -191,12 +191,21 @@ TEST_CASE("--serve: the page, frames, camera, pause, step, bad input, 20 clients
     std::size_t differ = 0;
     for (std::size_t i = 0; i < ja.rgb.size(); ++i) differ += std::abs(int(ja.rgb[i]) - int(jb.rgb[i])) > 24;
     CHECK(differ > ja.rgb.size() / 100);
+    // Coloured by device (two devices, each owning a slab with --balance off): another image again.
+    const auto by_device = c->Get("/frame.jpg?w=320&h=200&colour=device");
+    REQUIRE(by_device);
+    REQUIRE(by_device->status == 200);
+    const Jpeg jd = decode(by_device->body);
+    REQUIRE(jd.rgb.size() == ja.rgb.size());
+    std::size_t recoloured = 0;
+    for (std::size_t i = 0; i < ja.rgb.size(); ++i) recoloured += std::abs(int(ja.rgb[i]) - int(jd.rgb[i])) > 24;
+    CHECK(recoloured > 0);
 
     // Bad cameras and requests: 4xx, and the run is as it was.
     const std::uint64_t paused_at = step_now(*c);
     for (const char* bad : {"/frame.jpg?az=nan", "/frame.jpg?az=inf", "/frame.jpg?el=95", "/frame.jpg?dist=-1",
                             "/frame.jpg?dist=1e300", "/frame.jpg?w=100000", "/frame.jpg?w=12.5", "/frame.jpg?h=0",
-                            "/frame.jpg?az=1x", "/frame.jpg?zoom=2", "/frame.jpg?az=1&az=2", "/api/probes?after=abc"}) {
+                            "/frame.jpg?az=1x", "/frame.jpg?zoom=2", "/frame.jpg?colour=red", "/frame.jpg?az=1&az=2", "/api/probes?after=abc"}) {
         CAPTURE(bad);
         const auto r = c->Get(bad);
         REQUIRE(r);

@@ -57,9 +57,10 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 namespace clsph {
 
 std::array<float, 3> device_colour(std::size_t d) {
-    // Eight colours told apart at a glance, none the grey of the solids.
-    static constexpr std::array<std::array<float, 3>, 8> palette{{{0.30f, 0.55f, 0.92f},
-                                                                  {0.95f, 0.55f, 0.20f},
+    // Eight colours told apart at a glance, none the grey of the solids nor the blue of the
+    // uniform surface (so that a view coloured by device never looks like the plain one).
+    static constexpr std::array<std::array<float, 3>, 8> palette{{{0.95f, 0.55f, 0.20f},
+                                                                  {0.20f, 0.40f, 0.85f},
                                                                   {0.35f, 0.75f, 0.35f},
                                                                   {0.85f, 0.30f, 0.35f},
                                                                   {0.60f, 0.45f, 0.85f},
