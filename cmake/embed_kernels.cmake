@@ -1,6 +1,18 @@
-# Turns kernels/*.cl and kernels/*.h into one C++ file holding them as strings.
-# Called as: cmake -DOUT=<file.cpp> -DSOURCES="a.cl|b.h" -P embed_kernels.cmake
-set(body "// Generated from kernels/ by cmake/embed_kernels.cmake: do not edit.\n#include <map>\n#include <string>\nnamespace clsph::cl_rt {\nconst std::map<std::string, std::string>& embedded_kernels() {\n    static const std::map<std::string, std::string> k = {\n")
+# Turns files (kernels/*.cl and kernels/*.h; the live view's page) into one C++ file holding them
+# as strings, by file name, returned by NAMESPACE::FUNCTION().
+# Called as: cmake -DOUT=<file.cpp> -DSOURCES="a.cl|b.h" [-DNAMESPACE=ns -DFUNCTION=f -DFROM=dir/]
+#            -P embed_kernels.cmake
+# (default: clsph::cl_rt::embedded_kernels, from kernels/).
+if(NOT DEFINED NAMESPACE)
+  set(NAMESPACE clsph::cl_rt)
+endif()
+if(NOT DEFINED FUNCTION)
+  set(FUNCTION embedded_kernels)
+endif()
+if(NOT DEFINED FROM)
+  set(FROM kernels/)
+endif()
+set(body "// Generated from ${FROM} by cmake/embed_kernels.cmake: do not edit.\n#include <map>\n#include <string>\nnamespace ${NAMESPACE} {\nconst std::map<std::string, std::string>& ${FUNCTION}() {\n    static const std::map<std::string, std::string> k = {\n")
 string(REPLACE "|" ";" SOURCES "${SOURCES}")
 foreach(src IN LISTS SOURCES)
   get_filename_component(name "${src}" NAME)
@@ -19,6 +31,6 @@ foreach(src IN LISTS SOURCES)
   endif()
   string(APPEND body "        {\"${name}\", std::string(${chunks})},\n")
 endforeach()
-string(APPEND body "    };\n    return k;\n}\n}  // namespace clsph::cl_rt\n")
+string(APPEND body "    };\n    return k;\n}\n}  // namespace ${NAMESPACE}\n")
 file(WRITE "${OUT}.tmp" "${body}")
 execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different "${OUT}.tmp" "${OUT}")

@@ -4,6 +4,9 @@
 # installs the library and builds the example host program against the installed package.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# --browser: also the live view in headless Chromium (scripts/browser_check.sh; needs `chromium`).
+browser=0
+if [ "${1:-}" = "--browser" ]; then browser=1; shift; fi
 bash scripts/build.sh
 build=${CLSPH_BUILD_DIR:-build}
 export POCL_DEVICES=${POCL_DEVICES:-"basic pthread"}
@@ -32,4 +35,5 @@ if [ -n "$site" ]; then
   PYTHONPATH="$site" /usr/bin/python3 -c 'import clsph; print("python: clsph", clsph.__version__, "from", clsph.__file__)'
   PYTHONPATH="$site" /usr/bin/python3 -m clsph --version
 fi
+if [ "$browser" = 1 ]; then bash scripts/browser_check.sh "$build"; fi
 echo "clsph: all tests passed"

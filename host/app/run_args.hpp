@@ -9,6 +9,9 @@
 #include <vector>
 
 namespace clsph::app {
+namespace serve {
+class LiveView;  // serve/live_view.hpp
+}
 
 struct RunArgs {
     std::string scene_path;
@@ -45,6 +48,10 @@ struct RunArgs {
     bool render = false;                      // --render: an image per surface (implies --surface)
     bool video = false;                       // --video: an MP4 of the images (implies --render)
     std::string render_method;                // --render-method surface|splat; empty: the scene's render.method
+    std::optional<int> serve;                 // --serve [PORT]: the live view (docs/live_view.md) on this port
+    std::string serve_host = "127.0.0.1";     // --serve-host ADDR: where it listens (default: this machine only)
+    // With --serve, set by run_command once the server listens: what the run loop shows it.
+    std::shared_ptr<serve::LiveView> live;
     std::vector<std::string> command_line;    // argv, for run.json
     // clsph resume: the output directory to go on in (frames, stats and probes continue there).
     std::string resume_dir;

@@ -8,6 +8,7 @@
 #include "run_plan.hpp"
 #include "run_ranks.hpp"
 #include "run_record.hpp"
+#include "serve/live_server.hpp"
 
 #include <clsph/error.hpp>
 #include <clsph/io.hpp>
@@ -48,16 +49,43 @@ RunArgs across_ranks(RunArgs args) {
         throw Error(std::string(what) + " is not supported across MPI ranks yet (issue 21); run it in one process");
     };
     if (args.dry_run) refuse("--dry-run");
+    if (args.serve) refuse("--serve");
     if (args.on_device_failure == "continue") refuse("--on-device-failure continue");
     if (args.wants_surface()) refuse("the free surface and images (--surface, --render, --video)");
     if (args.csv) refuse("--csv");
     return args;
 }
 
+// --serve: the live view's server, listening before the kernels build (a port in use is an error
+// before anything is written), and the run made synchronous so that the run loop can render and
+// pause between two steps.
+std::unique_ptr<serve::LiveServer> start_live_view(RunArgs& args, const Scene& scene, const RunPlan& plan) {
+    if (!args.serve) return nullptr;
+    args.live = std::make_shared<serve::LiveView>(0, plan.until, plan.steps);
+    const Vec3 lo = scene.domain.min, hi = scene.domain.max;
+    const double size = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    auto server = std::make_unique<serve::LiveServer>(serve::ServeAddress{args.serve_host, *args.serve}, *args.live,
+                                                      camera_for(scene), size);
+    std::cout << "clsph: live view at " << server->url();
+    if (serve::is_loopback(args.serve_host))
+        std::cout << " (this machine only; from another: ssh -L " << *args.serve << ":localhost:" << *args.serve
+                  << " THIS_HOST, then http://localhost:" << *args.serve << "/)\n";
+    else
+        std::cout << "\nclsph: warning: --serve-host " << args.serve_host
+                  << ": the live view is open to the network, without authentication: anyone who reaches it can pause "
+                     "the run and write frames and checkpoints (docs/live_view.md)\n";
+    if (!args.synchronous)
+        std::cout << "clsph: --serve: steps wait for the host (as --synchronous), so that images are taken between steps\n";
+    args.synchronous = true;
+    std::cout.flush();
+    return server;
+}
+
 }  // namespace
 
 int run_command(const RunArgs& given) {
-    const RunArgs args = across_ranks(given);
+    RunArgs args = across_ranks(given);
     if (args.no_checkpoint && args.on_device_failure == "continue")
         throw Error("--no-checkpoint with --on-device-failure continue: going on after a device failure starts from a "
                     "checkpoint; drop one of them");
@@ -69,6 +97,7 @@ int run_command(const RunArgs& given) {
     if (args.dry_run) return with_scene_path(args, [&] { return dry_run(scene, args, plan); });
     if (!args.resume_dir.empty()) return resume_run(scene, args, plan, start);
     check_output_dir(plan.out_dir, args.force);  // refuse early, before minutes of kernel builds
+    const auto live_server = start_live_view(args, scene, plan);
 
     // From here on Ctrl-C and SIGTERM are caught: during set-up (kernel builds can take minutes)
     // they end it before anything is written; a second one kills at once.

@@ -6,6 +6,7 @@
 #include "progress.hpp"
 #include "report.hpp"
 #include "run_ranks.hpp"
+#include "serve/live_view.hpp"
 #include "surface_output.hpp"
 
 #include <clsph/error.hpp>
@@ -88,6 +89,8 @@ public:
             if (every > 0 && s.step % static_cast<std::uint64_t>(every) == 0) sample_probes();
             if (speaks(args_)) progress_.update(s, sim_);
             frames_.check();  // a writer error (disk full) ends the run now, not at the end
+            // --serve: images, the page's requests, and a pause, all between two steps.
+            if (args_.live) args_.live->between_steps(sim_, live_hooks_);
             // Across ranks every rank stops at the same step, whichever got the signal.
             if (args_.ranks ? any_rank(*args_.ranks, interrupt_requested()) : interrupt_requested())
                 throw StopRun{"interrupted"};
@@ -95,6 +98,14 @@ public:
         };
 
         totals_.outcome = "completed";
+        // --serve: the page hears how the run ended, however it ends (images are refused from then).
+        struct TellLiveView {
+            serve::LiveView* view;
+            const std::string& outcome;
+            ~TellLiveView() {
+                if (view) view->finished(outcome);
+            }
+        } tell_live_view{args_.live.get(), totals_.outcome};
         int code = exit_ok;
         std::string message, signal;
         try {
@@ -109,6 +120,7 @@ public:
                     // Something to go back to when a device fails.
                     if (args_.on_device_failure == "continue") write_checkpoint_now();
                 }
+                if (args_.live) args_.live->started(sim_.info());
                 while (sim_.time() < plan_.until - eps) {
                     const double frame_time = static_cast<double>(next_frame) * plan_.every;
                     sim_.run_until(std::min(frame_time, plan_.until), on_step);
@@ -273,7 +285,29 @@ private:
 
     void sample_probes() {
         if (sim_.scene().probes.empty()) return;
-        record_.probes(after_step("sampling the probes", [&] { return sim_.sample_probes(); }));
+        const auto samples = after_step("sampling the probes", [&] { return sim_.sample_probes(); });
+        record_.probes(samples);
+        if (args_.live) args_.live->probes(samples);
+    }
+
+    // The live view's "write now": a frame and a checkpoint of the state now, by the run's own
+    // writers (none twice at one step); says what it wrote, in the page's words.
+    std::string write_now() {
+        std::ostringstream said;
+        const double eps = 1e-9 * plan_.every;
+        if (frames_.last_time() < sim_.time() - eps) {
+            submit_frame();
+            said << "frame " << frames_.frames_written() << " at t = " << sim_.time() << " s";
+        } else {
+            said << "the frame at t = " << sim_.time() << " s was written already";
+        }
+        if (args_.no_checkpoint) {
+            said << "; no checkpoint (--no-checkpoint)";
+        } else if (last_checkpoint_step_ != sim_.info().step) {
+            write_checkpoint_now();
+            said << "; " << checkpoint_path(plan_.out_dir, sim_.info().step);
+        }
+        return said.str();
     }
 
     // The API does not say at what time last_good() was taken (with this loop it is the last frame
@@ -298,6 +332,7 @@ private:
     double next_checkpoint_ = args_.checkpoint_every ? *args_.checkpoint_every : 0.0;
     std::uint64_t last_checkpoint_step_ = ~std::uint64_t{0};
     std::string failed_device_, failure_message_;
+    const serve::RunHooks live_hooks_{[this] { return write_now(); }, [] { return interrupt_requested(); }};
 };
 
 }  // namespace

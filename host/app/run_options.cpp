@@ -16,6 +16,15 @@ std::uint64_t parse_steps(const std::string& text) {
     return n;
 }
 
+// --serve's port: a whole number from 1 to 65535.
+int parse_port(const std::string& text) {
+    const bool digits = !text.empty() && text.size() <= 5 && text.find_first_not_of("0123456789") == std::string::npos;
+    const int port = digits ? std::stoi(text) : 0;
+    if (port < 1 || port > 65535)
+        throw Error("--serve: expected a port number from 1 to 65535, got '" + text + "' (clsph run SCENE --serve [PORT])");
+    return port;
+}
+
 // The --help groups, in the order they are listed.
 const char* const scene_group = "Scene";
 const char* const devices_group = "Devices";
@@ -24,6 +33,7 @@ const char* const output_group = "Output";
 const char* const surface_group = "Images and surfaces";
 const char* const checkpoint_group = "Checkpoints and failures";
 const char* const balance_group = "Balance and profiling";
+const char* const live_group = "Live view";
 
 void add_scene_options(CLI::App& run, RunArgs& a) {
     run.add_option("scene", a.scene_path, "scene file (JSON; schema in docs/scenes.md)")->required();
@@ -160,6 +170,23 @@ void add_balance_options(CLI::App& run, RunArgs& a) {
         ->group(balance_group);
 }
 
+void add_live_options(CLI::App& run, RunArgs& a, std::optional<std::string>& serve) {
+    auto* serve_option = run.add_option("--serve", serve,
+                   "watch the run in a browser: serve a live view on PORT of this machine (127.0.0.1), with pause, "
+                   "step, orbit and probe plots; reach it from elsewhere with ssh -L PORT:localhost:PORT "
+                   "(docs/live_view.md; steps then wait for the host, as --synchronous; default: off, PORT 8080)")
+        ->expected(0, 1)
+        ->default_str("8080")
+        ->type_name("[PORT]")
+        ->group(live_group);
+    run.add_option("--serve-host", a.serve_host,
+                   "the address the live view listens on, e.g. 0.0.0.0 for every interface: anyone who reaches it can "
+                   "pause the run and write files, without a password (default: 127.0.0.1)")
+        ->type_name("ADDR")
+        ->needs(serve_option)
+        ->group(live_group);
+}
+
 }  // namespace
 
 RunOptions::RunOptions(CLI::App& run) {
@@ -170,6 +197,7 @@ RunOptions::RunOptions(CLI::App& run) {
     add_surface_options(run, args_);
     add_checkpoint_options(run, args_);
     add_balance_options(run, args_);
+    add_live_options(run, args_, serve_);
     run.footer(
         "MPI:\n"
         "  Started by mpirun, mpiexec or srun with several ranks, one run spans them: each rank drives its\n"
@@ -180,6 +208,7 @@ RunOptions::RunOptions(CLI::App& run) {
 RunArgs RunOptions::args() const {
     RunArgs a = args_;
     if (steps_) a.steps = parse_steps(*steps_);
+    if (serve_) a.serve = parse_port(*serve_);
     return a;
 }
 

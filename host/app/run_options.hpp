@@ -25,6 +25,7 @@ private:
     // --steps is read as text and checked here: a negative or enormous count is an error, never
     // wrapped around.
     std::optional<std::string> steps_;
+    std::optional<std::string> serve_;  // --serve [PORT], checked as --steps is
 };
 
 }  // namespace clsph::app

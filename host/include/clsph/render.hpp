@@ -4,6 +4,8 @@
 #pragma once
 #include "clsph/scene.hpp"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +17,16 @@ struct CameraView {
     double fov_deg = 40.0;  // vertical field of view
     std::uint32_t width = 1280, height = 720;
 };
+
+// How an image colours the free surface: one colour, or each device's slab its own (the paper's
+// Fig. 5: which device owns which part of the fluid, as the balancer moves the cuts).
+enum class SurfaceColour { uniform, by_device };
+struct ImageStyle {
+    SurfaceColour surface = SurfaceColour::uniform;
+};
+
+// The colour of device d's slab with SurfaceColour::by_device (RGB, 0..1; repeats after 8).
+std::array<float, 3> device_colour(std::size_t d);
 
 // The scene's render.camera and render.size, or a camera that frames the whole domain from the
 // front left and above.

@@ -136,14 +136,14 @@ public:
     TriangleMesh surface(const SurfaceOptions& options = {});
     // An image of `surface` (from surface()) with the scene's solid boxes and walls, seen by
     // `camera`: each device draws the triangles over its own slab, the host keeps the nearest.
-    Image render(const TriangleMesh& surface, const CameraView& camera);
+    Image render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style = {});
     // An image of the state now as the scene's render settings draw it, seen by `camera`: with
     // render.method "surface" the free surface made and drawn on the devices, nothing but the
     // images leaving them (render() of surface() draws the same picture); with "splat" the fluid
-    // particles splatted and shaded in screen space, no mesh (docs/scenes.md, render). The one
-    // entry point for a picture of the running simulation (the tool's frames, the live view,
-    // Python's sim.image).
-    Image image(const CameraView& camera);
+    // particles splatted and shaded in screen space, no mesh (docs/scenes.md, render; `style`
+    // colours surfaces only). The one entry point for a picture of the running simulation (the
+    // tool's frames, the live view, Python's sim.image).
+    Image image(const CameraView& camera, const ImageStyle& style = {});
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
     std::vector<KernelTime> host_phases() const;  // host wall time per step phase

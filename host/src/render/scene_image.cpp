@@ -80,9 +80,30 @@ Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraVie
 }
 
 }  // namespace
+}  // namespace clsph::render
+
+namespace clsph {
+
+std::array<float, 3> device_colour(std::size_t d) {
+    // Eight colours told apart at a glance, none the grey of the solids nor the blue of the
+    // uniform surface (so that a view coloured by device never looks like the plain one).
+    static constexpr std::array<std::array<float, 3>, 8> palette{{{0.95f, 0.55f, 0.20f},
+                                                                  {0.20f, 0.40f, 0.85f},
+                                                                  {0.35f, 0.75f, 0.35f},
+                                                                  {0.85f, 0.30f, 0.35f},
+                                                                  {0.60f, 0.45f, 0.85f},
+                                                                  {0.90f, 0.80f, 0.30f},
+                                                                  {0.30f, 0.80f, 0.80f},
+                                                                  {0.85f, 0.50f, 0.75f}}};
+    return palette[d % palette.size()];
+}
+
+}  // namespace clsph
+
+namespace clsph::render {
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
-                   const CameraView& camera) {
+                   const CameraView& camera, const ImageStyle& style) {
     auto& slabs = driver.slabs();
     // Each surface triangle to the slab owning the column of its centroid.
     const int split = grid.axis(0);
@@ -107,7 +128,8 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
         std::vector<Layer> layers;
-        layers.push_back({&surface, mine[d], kWater});
+        const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
+        layers.push_back({&surface, mine[d], colour});
         if (d == 0) layers.push_back({&solids, all_solids, kSolid});
         Renderer r(*slabs[d].device);
         images.push_back(r.draw(camera, layers));
@@ -116,7 +138,7 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
 }
 
 Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera) {
+                   const CameraView& camera, const ImageStyle& style) {
     auto& slabs = driver.slabs();
     const TriangleMesh solids = box_mesh(scene.solids);
     std::vector<std::uint32_t> all_solids(solids.triangles.size());
@@ -128,7 +150,8 @@ Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface:
         if (!water && !boxes) continue;
         Renderer r(*slabs[d].device);
         std::vector<DeviceLayer> layers;
-        if (water) layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), kWater});
+        const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
+        if (water) layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), colour});
         if (boxes) {
             std::vector<Layer> host_layers{{&solids, all_solids, kSolid}};
             DepthImage solid_image = r.draw(camera, host_layers);

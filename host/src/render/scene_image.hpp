@@ -15,11 +15,11 @@ TriangleMesh box_mesh(const std::vector<SolidBox>& boxes);
 std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls);
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const TriangleMesh& surface,
-                   const CameraView& camera);
+                   const CameraView& camera, const ImageStyle& style = {});
 // The same from the surface where the devices made it (surface::surface_on_devices): each device
 // draws its own part from its own memory; only the images move.
 Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera);
+                   const CameraView& camera, const ImageStyle& style = {});
 
 // The same picture with the water drawn by splats (render.method "splat", render/splat.hpp): no mesh.
 Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera);

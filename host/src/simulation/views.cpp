@@ -33,20 +33,20 @@ TriangleMesh Simulation::surface(const SurfaceOptions& options) {
                           [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options); });
 }
 
-Image Simulation::render(const TriangleMesh& surface, const CameraView& camera) {
+Image Simulation::render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
     m.driver.one_process("images");
-    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera); });
+    return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera, style); });
 }
 
-Image Simulation::image(const CameraView& camera) {
+Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
     m.driver.one_process("images");
     if (m.scene.render.method == RenderMethod::surface)
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it; each draws its own part.
             const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, {});
-            return render::render_scene(m.driver, m.scene, parts, camera);
+            return render::render_scene(m.driver, m.scene, parts, camera, style);
         });
     return cl_rt::guarded("rendering an image by splats", "",
                           [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera); });
