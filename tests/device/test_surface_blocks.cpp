@@ -94,6 +94,14 @@ TEST_CASE("the surface's active blocks and their field on the device, as plain C
         std::vector<std::size_t> slots{0, want.size() - 1};
         std::uniform_int_distribution<std::size_t> pick(0, want.size() - 1);
         for (int k = 0; k < 6; ++k) slots.push_back(pick(rng));
+        // And a block just under the water's top (z = 0.2), active and wet.
+        const auto wet_key = static_cast<std::uint32_t>(
+            std::floor((0.15 - L.origin[0]) / L.edge()) +
+            L.blocks[0] * (std::floor((0.15 - L.origin[1]) / L.edge()) + L.blocks[1] * std::floor((0.19 - L.origin[2]) / L.edge())));
+        const auto it = std::lower_bound(want.begin(), want.end(), wet_key);
+        REQUIRE(it != want.end());
+        REQUIRE(*it == wet_key);
+        slots.push_back(static_cast<std::size_t>(it - want.begin()));
         double worst = 0, largest = 0;
         for (const auto slot : slots) {
             const auto c = L.coords(want[slot]);
