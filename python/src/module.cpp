@@ -3,6 +3,7 @@
 // small records, never one Python object per particle. The GIL is released while the devices step.
 #include "clsph/devices.hpp"
 #include "clsph/error.hpp"
+#include "clsph/render.hpp"
 #include "clsph/scene.hpp"
 #include "clsph/scene_io.hpp"
 #include "clsph/simulation.hpp"
@@ -13,6 +14,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -179,6 +181,46 @@ PYBIND11_MODULE(_clsph, m) {
             for (const auto& p : s.sample_probes()) out[py::str(p.name)] = p.value;
             return out;
         }, "Each probe's value now: {name: Pa or m} (NaN where no fluid is).")
+        .def("image", [](Simulation& s, const py::object& camera, std::uint32_t width, std::uint32_t height, const std::string& colour) {
+            CameraView view = camera_for(s.scene());
+            if (width) view.width = width;
+            if (height) view.height = height;
+            if (!camera.is_none()) {
+                const auto d = camera.cast<py::dict>();
+                for (const auto& item : d) {
+                    const auto key = item.first.cast<std::string>();
+                    auto vec = [&](Vec3& out) {
+                        const auto v = item.second.cast<std::vector<double>>();
+                        if (v.size() != 3) throw Error("image: camera['" + key + "'] must be 3 numbers");
+                        out = {v[0], v[1], v[2]};
+                    };
+                    if (key == "eye") vec(view.eye);
+                    else if (key == "target") vec(view.target);
+                    else if (key == "up") vec(view.up);
+                    else if (key == "fov") view.fov_deg = item.second.cast<double>();
+                    else throw Error("image: unknown camera key '" + key + "' (eye, target, up, fov)");
+                }
+            }
+            for (double x : {view.eye[0], view.eye[1], view.eye[2], view.target[0], view.target[1], view.target[2], view.fov_deg})
+                if (!std::isfinite(x)) throw Error("image: the camera's numbers must be finite");
+            if (!(view.fov_deg > 0 && view.fov_deg < 180)) throw Error("image: fov must be within (0, 180) degrees");
+            if (view.width == 0 || view.height == 0 || view.width > 8192 || view.height > 8192)
+                throw Error("image: width and height must be within 1..8192 pixels");
+            ImageStyle style;
+            if (colour == "device") style.surface = SurfaceColour::by_device;
+            else if (colour != "uniform") throw Error("image: colour must be \"uniform\" or \"device\", got \"" + colour + "\"");
+            Image im;
+            {
+                py::gil_scoped_release unlocked;
+                im = s.image(view, style);
+            }
+            py::array_t<std::uint8_t> out({static_cast<py::ssize_t>(im.height), static_cast<py::ssize_t>(im.width), py::ssize_t{3}});
+            std::memcpy(out.mutable_data(), im.rgb.data(), im.rgb.size());
+            return out;
+        }, py::arg("camera") = py::none(), py::arg("width") = 0, py::arg("height") = 0, py::arg("colour") = "uniform",
+           "An image of the state now, as the scene's render.method draws it: (height, width, 3) uint8, rows from the "
+           "top. camera: None (the scene's) or {'eye', 'target', 'up': [x, y, z], 'fov': degrees}; width, height: "
+           "pixels (0: the scene's render.size); colour: 'uniform' or 'device' (each device's slab its own).")
         .def_property_readonly("time", &Simulation::time)
         .def_property_readonly("info", &Simulation::info)
         .def_property_readonly("scene", &Simulation::scene)

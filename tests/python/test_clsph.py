@@ -66,6 +66,38 @@ def test_particles_are_numpy_arrays():
     assert set(probes) == {pr["name"] for pr in clsph.scene_dict(sim.scene)["probes"]}
 
 
+def test_an_image_is_a_numpy_array_and_the_camera_moves_it():
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    im = sim.image(width=160, height=120)
+    assert im.shape == (120, 160, 3) and im.dtype == np.uint8
+    background = np.array([246, 246, 246], dtype=np.uint8)
+    drawn = int((im != background).any(axis=2).sum())
+    assert drawn > 500, drawn  # the water and the tank's outline
+    lo, hi = clsph.scene_dict(sim.scene)["domain"]["min"], clsph.scene_dict(sim.scene)["domain"]["max"]
+    centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+    above = sim.image(camera={"eye": [centre[0], centre[1] - 3.0, centre[2] + 2.0], "target": centre, "fov": 30},
+                      width=160, height=120)
+    assert above.shape == im.shape and (above != im).any()
+    by_device = sim.image(width=160, height=120, colour="device")
+    assert (by_device != im).any()
+    for bad in ({"eye": [float("nan"), 0, 0]}, {"fov": 0}, {"zoom": 2}, {"eye": [1, 2]}):
+        with pytest.raises(clsph.Error):
+            sim.image(camera=bad, width=160, height=120)
+    with pytest.raises(clsph.Error):
+        sim.image(colour="speed")
+
+
+def test_the_readme_python_example_runs(monkeypatch):
+    """The README's Python block, as written (issue 29: it had drifted and raised SceneError)."""
+    readme = open(os.path.join(SOURCE, "README.md")).read()
+    block = readme.split("## Python", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(SOURCE)
+    namespace = {}
+    exec(compile(block, "README.md (Python)", "exec"), namespace)
+    assert namespace["sim"].time >= 0.02
+    assert namespace["im"].shape == (360, 640, 3)
+
+
 def read_csv_frame(path):
     rows = {}
     with open(path) as f:
