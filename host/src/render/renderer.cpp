@@ -52,33 +52,37 @@ Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_gro
     shade_k_ = device.kernel("render.cl", "render_shade", opts);
 }
 
-DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& layers) {
-    struct Uploaded {
-        cl_rt::Buffer pos, nrm, tri;
-    };
-    std::vector<Uploaded> up(layers.size());
-    std::vector<DeviceLayer> on_device;
-    for (std::size_t l = 0; l < layers.size(); ++l) {
-        const auto& layer = layers[l];
-        if (layer.triangles.empty()) continue;
-        const auto& m = *layer.mesh;
-        std::vector<float> p(4 * m.positions.size()), n(4 * m.positions.size(), 0.0f);
-        for (std::size_t v = 0; v < m.positions.size(); ++v) {
-            std::memcpy(&p[4 * v], m.positions[v].data(), 12);
-            if (!m.normals.empty()) std::memcpy(&n[4 * v], m.normals[v].data(), 12);
-        }
-        std::vector<cl_uint> t(3 * layer.triangles.size());
-        for (std::size_t k = 0; k < layer.triangles.size(); ++k)
-            for (std::size_t c = 0; c < 3; ++c) t[3 * k + c] = m.triangles[layer.triangles[k]][c];
-        auto& u = up[l];
-        u.pos = device_.alloc(p.size() * sizeof(float), "render positions");
-        u.nrm = device_.alloc(n.size() * sizeof(float), "render normals");
-        u.tri = device_.alloc(t.size() * sizeof(cl_uint), "render triangles");
-        device_.write(u.pos, p.data(), p.size());
-        device_.write(u.nrm, n.data(), n.size());
-        device_.write(u.tri, t.data(), t.size());
-        on_device.push_back({&u.pos, &u.nrm, &u.tri, layer.triangles.size(), layer.colour});
+UploadedLayer Renderer::upload(const Layer& layer) {
+    UploadedLayer u;
+    u.colour = layer.colour;
+    if (layer.triangles.empty()) return u;
+    const auto& m = *layer.mesh;
+    std::vector<float> p(4 * m.positions.size()), n(4 * m.positions.size(), 0.0f);
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        std::memcpy(&p[4 * v], m.positions[v].data(), 12);
+        if (!m.normals.empty()) std::memcpy(&n[4 * v], m.normals[v].data(), 12);
     }
+    std::vector<cl_uint> t(3 * layer.triangles.size());
+    for (std::size_t k = 0; k < layer.triangles.size(); ++k)
+        for (std::size_t c = 0; c < 3; ++c) t[3 * k + c] = m.triangles[layer.triangles[k]][c];
+    u.positions = device_.alloc(p.size() * sizeof(float), "render positions");
+    u.normals = device_.alloc(n.size() * sizeof(float), "render normals");
+    u.triangles = device_.alloc(t.size() * sizeof(cl_uint), "render triangles");
+    device_.write(u.positions, p.data(), p.size());
+    device_.write(u.normals, n.data(), n.size());
+    device_.write(u.triangles, t.data(), t.size());
+    u.count = layer.triangles.size();
+    return u;
+}
+
+DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& layers) {
+    std::vector<UploadedLayer> up;
+    std::vector<DeviceLayer> on_device;
+    for (const auto& layer : layers) {
+        if (layer.triangles.empty()) continue;
+        up.push_back(upload(layer));
+    }
+    for (const auto& u : up) on_device.push_back(u.layer());
     return draw(camera, on_device);
 }
 

@@ -41,9 +41,19 @@ struct DepthImage {
     std::vector<std::uint32_t> colour;  // RGBA8 packed, R lowest
 };
 
+// A host mesh's layer uploaded to a device (Renderer::upload).
+struct UploadedLayer {
+    cl_rt::Buffer positions, normals, triangles;
+    std::size_t count = 0;
+    std::array<float, 3> colour{};
+    DeviceLayer layer() const { return {&positions, &normals, &triangles, count, colour}; }
+};
+
 class Renderer {
 public:
     explicit Renderer(cl_rt::Device& device);
+    // The layer's triangles on this device, to draw beside triangles already there.
+    UploadedLayer upload(const Layer& layer);
     DepthImage draw(const CameraView& camera, const std::vector<Layer>& layers);
     // The same for triangles already on the device, drawn as they are (nothing uploaded).
     DepthImage draw(const CameraView& camera, const std::vector<DeviceLayer>& layers);

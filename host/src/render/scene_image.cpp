@@ -152,12 +152,12 @@ Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface:
         std::vector<DeviceLayer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
         if (water) layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), colour});
+        UploadedLayer boxes_up;  // drawn in the same image as the water (one read-back)
         if (boxes) {
-            std::vector<Layer> host_layers{{&solids, all_solids, kSolid}};
-            DepthImage solid_image = r.draw(camera, host_layers);
-            images.push_back(std::move(solid_image));
+            boxes_up = r.upload({&solids, all_solids, kSolid});
+            layers.push_back(boxes_up.layer());
         }
-        if (!layers.empty()) images.push_back(r.draw(camera, layers));
+        images.push_back(r.draw(camera, layers));
     }
     return finish(std::move(images), scene, camera);
 }
