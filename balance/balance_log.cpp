@@ -42,6 +42,7 @@ void BalanceLog::write(std::size_t step, const std::vector<DeviceSample>& measur
   }
   for (std::size_t cut : decision.cuts) row << ',' << cut;
   out_ << row.str() << '\n';
+  out_.flush();  // a row a step, readable while the run goes on (tail -f)
   predicted_ = decision.predicted_seconds;
 }
 

@@ -46,7 +46,7 @@ int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan&
 RunArgs across_ranks(RunArgs args) {
     if (!args.ranks || ranks_in(*args.ranks) < 2) return args;
     auto refuse = [](const char* what) {
-        throw Error(std::string(what) + " is not supported across MPI ranks yet (issue 21); run it in one process");
+        throw Error(std::string(what) + " is not supported across MPI ranks yet; run it in one process (docs/mpi.md lists what runs across ranks)");
     };
     if (args.dry_run) refuse("--dry-run");
     if (args.serve) refuse("--serve");
