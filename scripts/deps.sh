@@ -9,7 +9,7 @@ CLSPH_PACKAGES=(g++ cmake make ocl-icd-opencl-dev opencl-headers opencl-clhpp-he
   libstb-dev          # PNG images (stb_image_write, compiled into the library: no link dependency)
   zlib1g-dev          # compressed VTU frames (clsph run --compress)
   libopenmpi-dev openmpi-bin  # MPI (CMake option CLSPH_MPI, on where found): runs across ranks (host/src/mpi/), tests/mpi/ under mpirun
-  libcpp-httplib-dev libturbojpeg0-dev  # clsph run --serve (host/app/serve/): the live view's HTTP server and JPEG frames (the tool only)
+  pkg-config libcpp-httplib-dev libturbojpeg0-dev  # clsph run --serve (host/app/serve/): the live view's HTTP server and JPEG frames (the tool only)
   glmark2-data        # scenes/bunny.json: the Stanford bunny mesh (/usr/share/glmark2/models/bunny.obj)
   clang libclang-rt-14-dev)  # scripts/fuzz.sh: clang, and compiler-rt for libFuzzer and the sanitizers (only recommended by clang)
 missing=()
