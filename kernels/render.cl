@@ -59,20 +59,7 @@ inline Camera camera_of(const float4 eye, const float4 right, const float4 up, c
     return c;
 }
 
-// The nearest depth so far: atomic_min, or (-DCLSPH_DEPTH_BY_CAS, where the quirks layer says the
-// driver's atomic_min loses writes) a compare-and-swap loop.
-inline void depth_min(volatile __global uint* p, const uint v) {
-#ifdef CLSPH_DEPTH_BY_CAS
-    uint old = *p;
-    while (v < old) {
-        const uint prev = atomic_cmpxchg(p, old, v);
-        if (prev == old) break;
-        old = prev;
-    }
-#else
-    atomic_min(p, v);
-#endif
-}
+#include "depth_min.h"
 
 __kernel void render_depth(const uint triangles, const float4 eye, const float4 right, const float4 up,
                            const float4 forward, const float4 view, const uint2 size, __global const float4* pos,

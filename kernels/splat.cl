@@ -6,21 +6,7 @@
 // atomic_add: integer sums do not depend on the order of the additions, so the thickness is the
 // same whichever device draws which particle and the images of several devices add up exactly.
 #include "grid.h"
-
-// The nearest depth so far, as kernels/render.cl (-DCLSPH_DEPTH_BY_CAS: the quirks layer's
-// compare-and-swap loop where a driver's atomic_min loses writes).
-inline void splat_depth_min(volatile __global uint* p, const uint v) {
-#ifdef CLSPH_DEPTH_BY_CAS
-    uint old = *p;
-    while (v < old) {
-        const uint prev = atomic_cmpxchg(p, old, v);
-        if (prev == old) break;
-        old = prev;
-    }
-#else
-    atomic_min(p, v);
-#endif
-}
+#include "depth_min.h"
 
 // Particles [first, first + count) of the store. `lo` is the domain's min corner minus the eye
 // (the host subtracts in double, so positions near a far-away eye keep their resolution), view is
@@ -77,7 +63,7 @@ __kernel void splat_particles(const uint first, const uint count, const GridPara
             const float half_chord = sqrt(r2 - miss2);
             const float z = (along - half_chord) * d.z;  // the front hit's depth along forward
             const uint at = (uint)y * (uint)w + (uint)xx;
-            splat_depth_min(&p_depth[at], as_uint(z));
+            depth_min(&p_depth[at], as_uint(z));
             atomic_add(&p_thick[at], max(1u, (uint)(2.0f * half_chord * inv_unit + 0.5f)));  // drawn: at least 1
         }
 }

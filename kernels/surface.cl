@@ -17,7 +17,8 @@
 //   surface_remap    triangles onto the welded vertices
 // Block keys are bx + nbx (by + nby bz); a block's sample (i, j, k) (0..8 per axis, faces shared
 // with neighbours) is at i + 9 (j + 9 k) of its 729 in the field.
-#include "probe_sums.h"
+#include "grid.h"
+#include "sph_kernel.h"
 
 #define SURFACE_CUBES 8
 #define SURFACE_SAMPLES 9

@@ -30,7 +30,6 @@ V unit(const V& a) {
     return {a[0] / l, a[1] / l, a[2] / l};
 }
 
-cl_float4 f4(const V& v) { return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 0.0f}}; }
 
 }  // namespace
 
@@ -89,10 +88,10 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
     const CameraBasis b = camera_basis(camera);
     KernelCamera kc{};
-    kc.eye = f4(b.eye);
-    kc.right = f4(b.right);
-    kc.up = f4(b.up);
-    kc.forward = f4(b.forward);
+    kc.eye = float4_of(b.eye);
+    kc.right = float4_of(b.right);
+    kc.up = float4_of(b.up);
+    kc.forward = float4_of(b.forward);
     kc.scale = static_cast<float>(b.scale);
     kc.cx = static_cast<float>(b.cx);
     kc.cy = static_cast<float>(b.cy);
@@ -118,13 +117,23 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
                         *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }
+    return read_depth_image(device_, depth, colour, camera.width, camera.height);
+}
+
+cl_float4 float4_of(const std::array<double, 3>& v, double w) {
+    return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(w)}};
+}
+
+DepthImage read_depth_image(cl_rt::Device& device, const cl_rt::Buffer& depth, const cl_rt::Buffer& colour,
+                            std::uint32_t width, std::uint32_t height) {
+    const std::size_t pixels = std::size_t{width} * height;
     DepthImage out;
-    out.width = camera.width;
-    out.height = camera.height;
+    out.width = width;
+    out.height = height;
     out.depth.resize(pixels);
     out.colour.resize(pixels);
-    device_.read(depth, out.depth.data(), pixels);
-    device_.read(colour, out.colour.data(), pixels);
+    device.read(depth, out.depth.data(), pixels);
+    device.read(colour, out.colour.data(), pixels);
     return out;
 }
 

@@ -27,6 +27,7 @@ struct DeviceLayer {
     std::size_t count = 0;  // triangles
     std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
 };
+
 // The camera as the kernels take it: the eye, three unit axes (right, up, forward) and the image
 // plane's scale (pixels per unit of x / z) and centre.
 struct CameraBasis {
@@ -35,11 +36,18 @@ struct CameraBasis {
 };
 CameraBasis camera_basis(const CameraView& camera);
 
+// A vector (and w) as the kernels' float4.
+cl_float4 float4_of(const std::array<double, 3>& v, double w = 0);
+
 struct DepthImage {
     std::uint32_t width = 0, height = 0;
     std::vector<std::uint32_t> depth;   // bits of a positive float; all ones where nothing is
     std::vector<std::uint32_t> colour;  // RGBA8 packed, R lowest
 };
+
+// A depth and a colour buffer of width x height pixels read back into a DepthImage (blocking).
+DepthImage read_depth_image(cl_rt::Device& device, const cl_rt::Buffer& depth, const cl_rt::Buffer& colour,
+                            std::uint32_t width, std::uint32_t height);
 
 // A host mesh's layer uploaded to a device (Renderer::upload).
 struct UploadedLayer {

@@ -1,19 +1,13 @@
 #include "render/splat.hpp"
 
+#include "render/renderer.hpp"
+
 #include "cl/kernel_args.hpp"
 #include "clsph/error.hpp"
 
 #include <algorithm>
 
 namespace clsph::render {
-namespace {
-
-cl_float4 f4(const std::array<double, 3>& v, double w = 0) {
-    return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(w)}};
-}
-
-}  // namespace
-
 Splatter::Splatter(cl_rt::Device& device, const device::Grid& grid)
     : device_(device), grid_(grid), wg_(device.work_group_size(64)) {
     std::string opts = grid.kernel_options();
@@ -40,7 +34,7 @@ SplatImage Splatter::draw(const CameraView& camera, const device::ParticleArrays
         const cl_float4 view{{static_cast<float>(b.scale), static_cast<float>(b.cx), static_cast<float>(b.cy),
                               static_cast<float>(radius)}};
         const cl_uint2 size{{camera.width, camera.height}};
-        cl_rt::set_args(splat_k_, first, count, grid_.params(), f4(rel), f4(b.right), f4(b.up), f4(b.forward), view,
+        cl_rt::set_args(splat_k_, first, count, grid_.params(), float4_of(rel), float4_of(b.right), float4_of(b.up), float4_of(b.forward), view,
                         size, static_cast<float>(out.unit), particles.pos, particles.id, depth, thickness);
         device_.launch("splat.particles", splat_k_, count, wg_);
     }

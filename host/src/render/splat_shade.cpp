@@ -1,6 +1,7 @@
 // The splats' shading on one device (kernels/splat_shade.cl): the composited depth smoothed by
 // two rounds of a separable bilateral filter, then one launch that takes normals from it and shades.
 #include "render/splat.hpp"
+#include "render/renderer.hpp"
 
 #include "cl/kernel_args.hpp"
 #include "clsph/error.hpp"
@@ -13,10 +14,6 @@ namespace clsph::render {
 namespace {
 
 using V = std::array<double, 3>;
-
-cl_float4 f4(const V& v, double w = 0) {
-    return {{static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(w)}};
-}
 
 V unit(const V& v) {
     const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -83,19 +80,12 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
                           static_cast<float>(refract_px)}};
     const cl_float4 edge{{static_cast<float>(0.5 * env.radius), static_cast<float>(20 * env.radius),
                           static_cast<float>(kGapRadii * env.radius), 0.0f}};
-    cl_rt::set_args(shade_k_, size, view, f4(b.right), f4(b.up), f4(b.forward), f4(b.eye), f4(up, eye_height),
-                    f4(unit(env.sun), env.tile), f4(env.absorb), f4(env.deep), edge, depth_a, thick,
+    cl_rt::set_args(shade_k_, size, view, float4_of(b.right), float4_of(b.up), float4_of(b.forward), float4_of(b.eye), float4_of(up, eye_height),
+                    float4_of(unit(env.sun), env.tile), float4_of(env.absorb), float4_of(env.deep), edge, depth_a, thick,
                     solid_depth, solid_colour, colour, out_depth);
     device_.launch("splat.shade", shade_k_, pixels, wg_);
 
-    DepthImage out;
-    out.width = camera.width;
-    out.height = camera.height;
-    out.depth.resize(pixels);
-    out.colour.resize(pixels);
-    device_.read(out_depth, out.depth.data(), pixels);
-    device_.read(colour, out.colour.data(), pixels);
-    return out;
+    return read_depth_image(device_, out_depth, colour, camera.width, camera.height);
 }
 
 }  // namespace clsph::render
