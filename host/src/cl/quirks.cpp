@@ -1,4 +1,5 @@
 #include "cl/quirks.hpp"
+#include "device/sizing.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -34,7 +35,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).
     const std::size_t reported = static_cast<std::size_t>(info.local_memory);
-    q.usable_local_memory = reported > 2048 ? reported - 1024 : reported;
+    q.usable_local_memory = device::sizing::usable_local_memory(reported);
     return q;
 }
 

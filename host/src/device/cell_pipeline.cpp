@@ -1,4 +1,5 @@
 #include "device/cell_pipeline.hpp"
+#include "device/sizing.hpp"
 
 #include "cl/errors.hpp"
 #include "cl/kernel_args.hpp"
@@ -42,7 +43,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
 
 void CellPipeline::reserve_cells(std::size_t k) {
     if (k <= cell_capacity_ && cell_key_) return;
-    const std::size_t cap = k + static_cast<std::size_t>(static_cast<double>(k) * cell_headroom_) + 16;
+    const std::size_t cap = sizing::cell_capacity(k, cell_headroom_);
     cell_key_ = cl_rt::Buffer();
     cell_start_ = cl_rt::Buffer();
     ranges_ = cl_rt::Buffer();
@@ -115,7 +116,7 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
     const std::size_t m = e.left + (e.end - e.right);
     if (m == 0) return;
     if (edge_keys_.bytes() < m * sizeof(cl_uint)) {
-        const std::size_t cap = m + m / 4 + 1024;
+        const std::size_t cap = sizing::box_capacity(m);
         edge_keys_ = cl_rt::Buffer();
         edge_vals_ = cl_rt::Buffer();
         edge_keys_ = d.alloc(cap * sizeof(cl_uint), "edge sort keys");
@@ -275,7 +276,7 @@ void CellPipeline::enqueue_gather(ParticleStore& ps, std::size_t first, std::siz
     const std::size_t n = end - first;
     if (flags_.bytes() < (n + 1) * sizeof(cl_uint)) {
         flags_ = cl_rt::Buffer();
-        flags_ = d.alloc((n + n / 4 + 1) * sizeof(cl_uint), "exchange flags");
+        flags_ = d.alloc(sizing::flag_capacity(n) * sizeof(cl_uint), "exchange flags");
     }
     set_args(flag_range_k_, first, end, keys.lo, keys.hi, ps.pos, flags_);
     d.launch("exchange.flag", flag_range_k_, n, wg_);

@@ -8,6 +8,7 @@
 #pragma once
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "device/sizing.hpp"
 
 #include <cstddef>
 #include <string>
@@ -18,7 +19,7 @@ struct ParticleArrays {
     cl_rt::Buffer pos, velrho, accel, id;
 
     static constexpr std::size_t kFloat4 = 4 * sizeof(float);
-    static constexpr std::size_t kBytesPerParticle = 3 * kFloat4 + sizeof(std::uint32_t);
+    static constexpr std::size_t kBytesPerParticle = sizing::kParticleBytes;
 
     // f(buffer, bytes per element, name) for each array, in the staged block's order.
     template <class F>

@@ -1,4 +1,5 @@
 #include "device/particle_store.hpp"
+#include "device/sizing.hpp"
 
 #include "clsph/error.hpp"
 
@@ -24,7 +25,7 @@ void ParticleStore::allocate(std::size_t cap) {
 
 bool ParticleStore::reserve(std::size_t n) {
     if (n <= capacity_) return false;
-    const std::size_t cap = static_cast<std::size_t>(static_cast<double>(n) * (1.0 + headroom_)) + 1;
+    const std::size_t cap = sizing::grown_capacity(n, headroom_);
     const std::size_t keep = ranges.active();
     if (keep == 0) {
         // Nothing to keep (the first upload, the generation on the device): the old arrays go

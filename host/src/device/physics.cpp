@@ -1,4 +1,5 @@
 #include "device/physics.hpp"
+#include "device/sizing.hpp"
 
 #include "cl/errors.hpp"
 #include "cl/kernel_args.hpp"
@@ -88,8 +89,8 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
     if (mdbc_) mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
     probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
-    kick_groups_ = std::max<std::size_t>(1, std::min<std::size_t>(256, device.info().compute_units * 4));
-    partials_ = device.alloc(kick_groups_ * 4 * sizeof(float), "kick reductions");
+    kick_groups_ = sizing::kick_groups(device.info().compute_units);
+    partials_ = device.alloc(kick_groups_ * sizing::kKickFloats * sizeof(float), "kick reductions");
     bad_ = device.alloc(sizeof(cl_uint), "failure flag");
     dt_f_ = device.alloc(sizeof(float), "time step");
     halt_ = device.alloc(sizeof(cl_uint), "halt flag");
@@ -100,7 +101,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     has_clock_ = ext.find("cl_khr_fp64") != std::string::npos;
     if (has_clock_) {
         end_k_ = device.kernel("step_clock.cl", "end_step", "");
-        clock_ = device.alloc(4 * sizeof(double), "step clock");
+        clock_ = device.alloc(sizing::kClockDoubles * sizeof(double), "step clock");
         device.fill(bad_, cl_uint{0xffffffffu}, 1);
     }
 }

@@ -8,6 +8,7 @@
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
 #include "device/particle_store.hpp"
+#include "device/sizing.hpp"
 
 #include <array>
 #include <memory>
@@ -31,7 +32,7 @@ struct KickResult {
 // One step as the device's clock recorded it (kernels/step_clock.cl, end_step), read by the host
 // a few steps later.
 struct StepRecord {
-    static constexpr std::size_t kDoubles = 17;
+    static constexpr std::size_t kDoubles = sizing::kStepRecordDoubles;
     double time = 0, dt = 0, next_dt = 0;  // after the step; the step; the next CFL step (unclamped)
     KickResult kick;
     unsigned halt = 0;                    // non-zero: the step changed nothing (kHalt*)

@@ -4,6 +4,7 @@
 // accounting, grown on demand, never shrunk) and its kernels (built once per device and options).
 #pragma once
 #include "cl/device.hpp"
+#include "device/sizing.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -51,7 +52,7 @@ public:
     struct Config {
         std::size_t work_group = 0;  // work-items per group, a power of two >= 16 (0: the device's, <= 256)
         std::size_t items = 0;       // pairs per work-item, a multiple of 4 (0: the most local memory allows, <= 16)
-        unsigned digit_bits = 8;     // bits sorted per pass, 1..8
+        unsigned digit_bits = sizing::kDigitBits;  // bits sorted per pass, 1..8
         std::string name = "sort";   // launches: "<name>.histogram", "<name>.scan.*", "<name>.scatter"
     };
     explicit RadixSort(cl_rt::Device& device);

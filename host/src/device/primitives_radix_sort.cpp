@@ -4,6 +4,7 @@
 #include "device/primitives.hpp"
 
 #include "device/primitives_launch.hpp"
+#include "device/sizing.hpp"
 
 #include "clsph/error.hpp"
 
@@ -12,13 +13,7 @@
 namespace clsph::device {
 namespace {
 
-// Local memory sort_scatter declares (see radix_sort.cl): the exchange tile (keys and values, one
-// padding word per 32), the per-digit bases and the work-group scan's scratch.
-std::size_t scatter_local_bytes(std::size_t wg, std::size_t items, unsigned digit_bits) {
-    const std::size_t tile = wg * items;
-    const std::size_t padded = tile + tile / 32;
-    return sizeof(cl_uint) * (2 * padded + (std::size_t{1} << digit_bits) + 2 * wg);
-}
+using sizing::sort_scatter_local_bytes;
 
 }  // namespace
 
@@ -39,19 +34,13 @@ struct RadixSort::Impl {
         if (config.items == 0) {
             // Larger tiles write longer runs per digit (better coalesced) and leave a smaller table
             // to scan; local memory bounds them (32 KiB on rusticl: 8 per work-item at 256).
-            const std::size_t local = dev.quirks().usable_local_memory;
-            config.items = 4;
-            for (std::size_t items : {16, 8})
-                if (scatter_local_bytes(wg0, items, config.digit_bits) <= local) {
-                    config.items = items;
-                    break;
-                }
+            config.items = sizing::sort_items(wg0, dev.quirks().usable_local_memory, config.digit_bits);
         }
         if (config.items % 4 != 0)
             throw Error("radix sort: items per work-item must be a multiple of 4, not " + std::to_string(config.items));
-        if (scatter_local_bytes(wg0, config.items, config.digit_bits) > dev.quirks().usable_local_memory)
+        if (sort_scatter_local_bytes(wg0, config.items, config.digit_bits) > dev.quirks().usable_local_memory)
             throw Error("radix sort: tiles of " + std::to_string(wg0 * config.items) + " pairs need " +
-                        std::to_string(scatter_local_bytes(wg0, config.items, config.digit_bits)) +
+                        std::to_string(sort_scatter_local_bytes(wg0, config.items, config.digit_bits)) +
                         " bytes of local memory, more than the " +
                         std::to_string(dev.quirks().usable_local_memory) + " usable on " + dev.label());
         if (wg0 * config.items >= 65536) throw Error("radix sort: tiles must hold fewer than 65536 pairs");
@@ -75,8 +64,8 @@ struct RadixSort::Impl {
         require_elements("radix sort values", values, n);
         if (n < 2) return false;
         as_uint(n);
-        const std::size_t table = (std::size_t{1} << config.digit_bits) * groups_of(n);
-        ensure_capacity(dev, counts, (table + 1) * sizeof(cl_uint), "radix sort digit counts");
+        ensure_capacity(dev, counts, sizing::sort_count_entries(n, tile, config.digit_bits) * sizeof(cl_uint),
+                        "radix sort digit counts");
         return true;
     }
 
@@ -154,10 +143,7 @@ void RadixSort::sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::si
     impl_->sort_through(keys, values, n, key_bits, scratch);
 }
 
-std::size_t RadixSort::borrowed_elements(std::size_t n) {
-    const std::size_t half = (n + 63) / 64 * 64;  // values start 256-byte aligned
-    return 2 * half;
-}
+std::size_t RadixSort::borrowed_elements(std::size_t n) { return sizing::borrowed_elements(n); }
 
 std::size_t RadixSort::scratch_bytes() const {
     return impl_->keys_alt.bytes() + impl_->values_alt.bytes() + impl_->counts.bytes() + impl_->scan.scratch_bytes();

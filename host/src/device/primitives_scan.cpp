@@ -3,6 +3,7 @@
 #include "device/primitives.hpp"
 
 #include "device/primitives_launch.hpp"
+#include "device/sizing.hpp"
 
 #include "clsph/error.hpp"
 
@@ -12,12 +13,7 @@
 namespace clsph::device {
 namespace {
 
-// Local memory scan_tiles declares (see scan.cl): the work-group scan's scratch and, above 4 items
-// per work-item, the tile it transposes (one padding word per 32).
-std::size_t tiles_local_bytes(std::size_t wg, std::size_t items) {
-    const std::size_t tile = wg * items;
-    return sizeof(cl_uint) * (2 * wg + (items > 4 ? tile + tile / 32 : 0));
-}
+using sizing::scan_tiles_local_bytes;
 
 }  // namespace
 
@@ -34,18 +30,13 @@ struct Scan::Impl {
         const std::size_t wg0 = config.work_group ? config.work_group : dev.work_group_size(256);
         if (config.items == 0) {
             // 16 per work-item measured best on an H200 (BENCHMARKS.md); fewer where local memory is short.
-            config.items = 4;
-            for (std::size_t items : {16, 8})
-                if (tiles_local_bytes(wg0, items) <= dev.quirks().usable_local_memory) {
-                    config.items = items;
-                    break;
-                }
+            config.items = sizing::scan_items(wg0, dev.quirks().usable_local_memory);
         }
         if (config.items % 4 != 0)
             throw Error("scan: items per work-item must be a multiple of 4, not " + std::to_string(config.items));
-        if (tiles_local_bytes(wg0, config.items) > dev.quirks().usable_local_memory)
+        if (scan_tiles_local_bytes(wg0, config.items) > dev.quirks().usable_local_memory)
             throw Error("scan: tiles of " + std::to_string(wg0 * config.items) + " elements need " +
-                        std::to_string(tiles_local_bytes(wg0, config.items)) + " bytes of local memory, more than the " +
+                        std::to_string(scan_tiles_local_bytes(wg0, config.items)) + " bytes of local memory, more than the " +
                         std::to_string(dev.quirks().usable_local_memory) + " usable on " + dev.label());
         config.work_group = resolve_work_group(dev, config.work_group, 256, [&](std::size_t wg) {
             const std::string options = "-DWG=" + std::to_string(wg) + " -DITEMS=" + std::to_string(config.items);

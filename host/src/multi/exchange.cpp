@@ -1,4 +1,5 @@
 #include "multi/exchange.hpp"
+#include "device/sizing.hpp"
 
 #include <algorithm>
 
@@ -126,7 +127,7 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
                 total += end - first;
             }
         }
-        if (s.outbox.capacity() < total || !s.outbox.id) s.outbox.allocate(*s.device, total + total / 4 + 1024, "exchange outbox");
+        if (s.outbox.capacity() < total || !s.outbox.id) s.outbox.allocate(*s.device, device::sizing::box_capacity(total), "exchange outbox");
         s.cells->begin_gathers(windows.size());
         std::size_t base = 0;
         for (std::size_t k = 0; k < windows.size(); ++k) {
@@ -206,7 +207,7 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     auto& ps = *s.store;
     auto& dev = *s.device;
     const std::size_t n = p.from_left + p.from_right;
-    if (s.inbox.capacity() < n || !s.inbox.id) s.inbox.allocate(dev, n + n / 4 + 1024, "exchange inbox");
+    if (s.inbox.capacity() < n || !s.inbox.id) s.inbox.allocate(dev, device::sizing::box_capacity(n), "exchange inbox");
     // Arrivals into the inbox on the transfer queue: left senders first, then right ones. (On its
     // own host thread: a write from memory pinned in another device's context may hold the thread
     // until it is done, on NVIDIA.)

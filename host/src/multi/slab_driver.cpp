@@ -1,4 +1,5 @@
 #include "multi/slab_driver.hpp"
+#include "device/sizing.hpp"
 
 #include "clsph/error.hpp"
 #include "device/generate.hpp"
@@ -56,9 +57,8 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         if (!here(d)) continue;
         Slab& s = slabs_[d];
         s.device = devices[d - first_here];
-        const std::size_t capacity = D == 1 ? total : static_cast<std::size_t>(
-            static_cast<double>(total) / static_cast<double>(D) * (1.0 + options_.headroom));
-        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, std::max<std::size_t>(capacity, 1), options_.headroom);
+        const std::size_t capacity = device::sizing::slab_capacity(total, D, options_.headroom);
+        s.store = std::make_unique<device::ParticleStore>(*s.device, grid, capacity, options_.headroom);
         s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
         s.cells->set_cell_headroom(options_.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);

@@ -14,6 +14,7 @@
 #include "clsph/scene.hpp"
 #include "clsph/testing.hpp"
 #include "device/grid.hpp"
+#include "device/sizing.hpp"
 #include "multi/device_threads.hpp"
 #include "multi/exchange.hpp"
 #include "multi/partition.hpp"
@@ -72,8 +73,10 @@ public:
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
     // (Leap-frog only: a Symplectic step has two exchanges.)
-    bool can_step_ahead() const {
-        return slabs_.size() == 1 && slabs_[0].physics->has_clock() && !slabs_[0].physics->symplectic();
+    bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
+        return slabs_.size() == 1 && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+                                                               slabs_[0].physics->has_clock(),
+                                                               slabs_[0].physics->symplectic());
     }
     void set_clock(double time, double next_dt, double event) { slabs_[0].physics->set_clock(time, next_dt, event); }
     void enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);

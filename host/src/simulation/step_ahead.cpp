@@ -10,7 +10,7 @@
 namespace clsph::simulation {
 
 void StepAhead::start() {
-    on_ = !options_.synchronous && options_.steps_ahead > 0 && driver_.can_step_ahead();
+    on_ = driver_.can_step_ahead(options_.synchronous, options_.steps_ahead);
     using Mode = cl_rt::EventSet::Mode;
     wait_mode_ = options_.wait == WaitMode::poll ? Mode::poll : options_.wait == WaitMode::block ? Mode::block : Mode::callbacks;
     if (!on_) return;
