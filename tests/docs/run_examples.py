@@ -1,0 +1,209 @@
+#!/usr/bin/env python3
+"""Runs every code block of README.md and docs/*.md (the convention: docs/testing.md).
+
+    run_examples.py --source DIR --build DIR [--list] [FILE...]
+
+Blocks tagged sh, bash, shell or console run in bash, python blocks in Python with the built module
+on PYTHONPATH, cpp blocks compiled against the built library and run. Each page runs in its own
+scratch directory that mirrors the source tree (scenes/, examples/, build/ ... as links), in order,
+so a block may read what an earlier block of its page wrote. The first block that fails stops the
+run with its file and line.
+"""
+import argparse
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+RUNNABLE = {"sh": "sh", "bash": "sh", "shell": "sh", "console": "console", "python": "python", "cpp": "cpp"}
+DIRECTIVE = re.compile(r"^\s*<!--\s*doc-test:\s*(.*?)\s*-->\s*$")
+FENCE = re.compile(r"^(\s*)(```+|~~~+)\s*([\w+-]*)")
+REPLACE = re.compile(r'^replace\s+"((?:[^"\\]|\\.)*)"\s*=>\s*"((?:[^"\\]|\\.)*)"$')
+BLOCK_TIMEOUT_S = 300
+
+
+class DocError(Exception):
+    pass
+
+
+class Block:
+    def __init__(self, path, line, lang, text, directives):
+        self.path, self.line, self.lang, self.text = path, line, lang, text
+        self.skip = None
+        self.env = {}
+        for where, d in directives:
+            if d.startswith("skip"):
+                reason = d[4:].strip()
+                if not (reason.startswith("(") and reason.endswith(")") and len(reason) > 2):
+                    raise DocError(f"{where}: skip needs a reason in parentheses: skip (needs a GPU)")
+                self.skip = reason[1:-1]
+            elif d.startswith("replace"):
+                m = REPLACE.match(d)
+                if not m:
+                    raise DocError(f'{where}: expected replace "OLD" => "NEW", got: {d}')
+                old, new = (s.replace('\\"', '"') for s in m.groups())
+                if old not in self.text:
+                    raise DocError(f"{where}: replace: '{old}' is not in the block below (stale substitution)")
+                self.text = self.text.replace(old, new)
+            elif d.startswith("env"):
+                for item in shlex.split(d[3:]):
+                    name, sep, value = item.partition("=")
+                    if not sep or not name:
+                        raise DocError(f"{where}: env expects NAME=VALUE pairs, got '{item}'")
+                    self.env[name] = value
+            else:
+                raise DocError(f"{where}: unknown doc-test directive '{d}' (skip, replace, env)")
+
+    def where(self):
+        return f"{self.path}:{self.line}"
+
+
+def blocks_of(path, rel):
+    """The fenced blocks of one markdown file, with the directives of the comments before each."""
+    lines = open(path, encoding="utf-8").read().split("\n")
+    out, pending, i = [], [], 0
+    while i < len(lines):
+        d = DIRECTIVE.match(lines[i])
+        if d:
+            pending.append((f"{rel}:{i + 1}", d.group(1)))
+            i += 1
+            continue
+        f = FENCE.match(lines[i])
+        if not f:
+            if pending and lines[i].strip():
+                raise DocError(f"{pending[0][0]}: a doc-test directive must stand right before a code block")
+            i += 1
+            continue
+        indent, fence, lang = f.groups()
+        start = i + 1
+        body = []
+        i += 1
+        while i < len(lines) and not lines[i].strip().startswith(fence):
+            body.append(lines[i][len(indent):] if lines[i].startswith(indent) else lines[i])
+            i += 1
+        i += 1
+        kind = RUNNABLE.get(lang.lower())
+        if kind is None:
+            if pending:
+                raise DocError(f"{pending[0][0]}: directive before a '{lang or 'untagged'}' block, which never runs")
+        else:
+            out.append(Block(rel, start, kind, "\n".join(body) + "\n", pending))
+        pending = []
+    if pending:
+        raise DocError(f"{pending[0][0]}: a doc-test directive at the end of the file")
+    return out
+
+
+def scratch_dir(source, build):
+    """A directory that looks like the source tree (every top-level entry a link) with build/."""
+    d = tempfile.mkdtemp(prefix="clsph-doc-")
+    for name in os.listdir(source):
+        if name in ("build", "out", ".git"):
+            continue
+        os.symlink(os.path.join(source, name), os.path.join(d, name))
+    os.symlink(build, os.path.join(d, "build"))
+    return d
+
+
+def console_script(text):
+    cmds = [l[2:] for l in text.split("\n") if l.startswith("$ ")]
+    if not cmds:
+        raise DocError("a console block with no '$ ' command line")
+    return "\n".join(cmds) + "\n"
+
+
+def cpp_program(text):
+    if re.search(r"\bint\s+main\s*\(", text):
+        return text
+    head = [l for l in text.split("\n") if l.startswith("#include")]
+    body = [l for l in text.split("\n") if not l.startswith("#include")]
+    return "\n".join(head) + "\n\nint main() {\n" + "\n".join("    " + l for l in body) + "\n    return 0;\n}\n"
+
+
+def run(block, cwd, env, args):
+    env = dict(env, **block.env)
+    if block.lang in ("sh", "console"):
+        script = block.text if block.lang == "sh" else console_script(block.text)
+        cmd = ["bash", "-euo", "pipefail", "-c", script]
+    elif block.lang == "python":
+        cmd = [args.python, "-c", block.text]
+    else:
+        src = os.path.join(cwd, f"doc_block_{block.line}.cpp")
+        exe = src[:-4]
+        open(src, "w").write(cpp_program(block.text))
+        link = open(os.path.join(args.build, "tests", "docs", "link_flags.txt")).read().split("\n")
+        compiler, flags = link[0], [f for f in link[1:] if f]
+        build = subprocess.run([compiler, "-std=c++17", "-O1", src, "-o", exe] + flags, cwd=cwd,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if build.returncode != 0:
+            return build.returncode, "compiling:\n" + build.stdout
+        cmd = [exe]
+    try:
+        p = subprocess.run(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                           timeout=BLOCK_TIMEOUT_S, stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired as e:
+        out = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+        return 124, out + f"\n(timed out after {BLOCK_TIMEOUT_S} s)"
+    return p.returncode, p.stdout
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--source", default=os.path.join(os.path.dirname(__file__), "..", ".."))
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--python", default=sys.executable)
+    ap.add_argument("--list", action="store_true", help="list the blocks and what would run, run nothing")
+    ap.add_argument("files", nargs="*", help="markdown files relative to the source (default: README.md docs/*.md)")
+    args = ap.parse_args()
+    source, args.build = os.path.realpath(args.source), os.path.realpath(args.build)
+    files = args.files or ["README.md"] + sorted(
+        os.path.join("docs", f) for f in os.listdir(os.path.join(source, "docs")) if f.endswith(".md"))
+    try:
+        pages = [(rel, blocks_of(os.path.join(source, rel), rel)) for rel in files]
+    except DocError as e:
+        print(f"doc-test: {e}", file=sys.stderr)
+        return 1
+    env = dict(os.environ)
+    env["PATH"] = os.pathsep.join([os.path.join(args.build, "host", "app"), os.path.join(args.build, "bench"),
+                                   env.get("PATH", "")])
+    env["PYTHONPATH"] = os.pathsep.join(p for p in [os.path.join(args.build, "python"), env.get("PYTHONPATH")] if p)
+    ran = skipped = 0
+    for rel, blocks in pages:
+        if args.list:
+            for b in blocks:
+                print(f"{b.where()}: {b.lang}: " + (f"skip ({b.skip})" if b.skip else "run"))
+            continue
+        cwd = None
+        try:
+            for b in blocks:
+                if b.skip:
+                    print(f"{b.where()}: {b.lang}: skipped ({b.skip})")
+                    skipped += 1
+                    continue
+                cwd = cwd or scratch_dir(source, args.build)
+                t = time.monotonic()
+                try:
+                    rc, out = run(b, cwd, env, args)
+                except DocError as e:
+                    rc, out = 1, str(e)
+                if rc != 0:
+                    print(out[-6000:])
+                    print(f"{b.where()}: {b.lang} block failed (exit status {rc})", file=sys.stderr)
+                    print(f"doc-test: {ran} passed, 1 failed, {skipped} skipped")
+                    return 1
+                ran += 1
+                print(f"{b.where()}: {b.lang}: ok ({time.monotonic() - t:.1f} s)")
+        finally:
+            if cwd:
+                shutil.rmtree(cwd, ignore_errors=True)
+    if not args.list:
+        print(f"doc-test: {ran} passed, 0 failed, {skipped} skipped")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
