@@ -155,7 +155,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--source", default=os.path.join(os.path.dirname(__file__), "..", ".."))
     ap.add_argument("--build", required=True)
-    ap.add_argument("--python", default=sys.executable)
+    ap.add_argument("--python", default="/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable,
+                    help="the Python the module was built for (default: Debian's, as CMake picks it)")
+    ap.add_argument("--verbose", action="store_true", help="print every block's output")
     ap.add_argument("--list", action="store_true", help="list the blocks and what would run, run nothing")
     ap.add_argument("files", nargs="*", help="markdown files relative to the source (default: README.md docs/*.md)")
     args = ap.parse_args()
@@ -196,6 +198,8 @@ def main():
                     print(f"doc-test: {ran} passed, 1 failed, {skipped} skipped")
                     return 1
                 ran += 1
+                if args.verbose:
+                    print(out)
                 print(f"{b.where()}: {b.lang}: ok ({time.monotonic() - t:.1f} s)")
         finally:
             if cwd:
