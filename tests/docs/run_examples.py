@@ -98,6 +98,40 @@ def blocks_of(path, rel):
     return out
 
 
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def slug(heading):
+    """The anchor GitHub gives a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower().replace("`", ""))
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    out, fenced = set(), False
+    for line in open(path, encoding="utf-8"):
+        if FENCE.match(line):
+            fenced = not fenced
+        elif not fenced and line.startswith("#"):
+            out.add(slug(line.lstrip("#")))
+    return out
+
+
+def check_links(source, rel):
+    """Every relative link of a page names a file that exists, and a heading of it after '#'."""
+    here = os.path.dirname(os.path.join(source, rel))
+    text = re.sub(r"(?ms)^\s*```.*?^\s*```", "", open(os.path.join(source, rel), encoding="utf-8").read())
+    for target in LINK.findall(text):
+        if re.match(r"^[a-z]+:", target):
+            continue
+        path, _, anchor = target.partition("#")
+        full = os.path.normpath(os.path.join(here, path)) if path else os.path.join(source, rel)
+        if not os.path.exists(full):
+            raise DocError(f"{rel}: a link to {target}: no such file")
+        if anchor and full.endswith(".md") and anchor not in anchors(full):
+            raise DocError(f"{rel}: a link to {target}: no such heading")
+
+
 def scratch_dir(source, build):
     """A directory that looks like the source tree (every top-level entry a link) with build/."""
     d = tempfile.mkdtemp(prefix="clsph-doc-")
@@ -166,6 +200,8 @@ def main():
         os.path.join("docs", f) for f in os.listdir(os.path.join(source, "docs")) if f.endswith(".md"))
     try:
         pages = [(rel, blocks_of(os.path.join(source, rel), rel)) for rel in files]
+        for rel in files + ["BENCHMARKS.md", "BENCHMARKS_HISTORY.md"]:
+            check_links(source, rel)
     except DocError as e:
         print(f"doc-test: {e}", file=sys.stderr)
         return 1
