@@ -132,6 +132,32 @@ def check_links(source, rel):
             raise DocError(f"{rel}: a link to {target}: no such heading")
 
 
+def check_cli(source, build):
+    """docs/cli.md's synopsis names every option of each `clsph COMMAND --help`, and no other; its
+    tables describe every option of `clsph run`."""
+    page = open(os.path.join(source, "docs", "cli.md"), encoding="utf-8").read()
+    synopsis = page.split("```\n", 2)[1]
+    by_command, command = {}, None
+    for line in synopsis.split("\n"):
+        m = re.match(r"^clsph (\w+)", line)
+        if m:
+            command = m.group(1)
+        if command:
+            by_command.setdefault(command, set()).update(re.findall(r"--[a-z][a-z-]*", line))
+    table = set(re.findall(r"(?m)^\| `(--[a-z][a-z-]*)", page))
+    tool = os.path.join(build, "host", "app", "clsph")
+    for command in ("devices", "run", "resume", "surface", "render"):
+        helptext = subprocess.run([tool, command, "--help"], stdout=subprocess.PIPE, text=True).stdout
+        options = set(re.findall(r"(?m)^\s+(--[a-z][a-z-]*)", helptext)) - {"--help"}
+        documented = by_command.get(command, set())
+        if options != documented:
+            raise DocError(f"docs/cli.md: the synopsis of clsph {command} differs from its --help: "
+                           f"missing {sorted(options - documented)}, not an option {sorted(documented - options)}")
+        if command == "run" and options != table:
+            raise DocError(f"docs/cli.md: the option tables differ from clsph run --help: "
+                           f"missing {sorted(options - table)}, not an option {sorted(table - options)}")
+
+
 def scratch_dir(source, build):
     """A directory that looks like the source tree (every top-level entry a link) with build/."""
     d = tempfile.mkdtemp(prefix="clsph-doc-")
@@ -202,6 +228,8 @@ def main():
         pages = [(rel, blocks_of(os.path.join(source, rel), rel)) for rel in files]
         for rel in files + ["BENCHMARKS.md", "BENCHMARKS_HISTORY.md"]:
             check_links(source, rel)
+        if "docs/cli.md" in files and not args.list:
+            check_cli(source, args.build)
     except DocError as e:
         print(f"doc-test: {e}", file=sys.stderr)
         return 1
