@@ -158,6 +158,26 @@ def check_cli(source, build):
                            f"missing {sorted(options - table)}, not an option {sorted(table - options)}")
 
 
+def check_lists(source):
+    """docs/library.md's table lists every public header and no other; docs/layout.md names every
+    top-level folder of the tree and every part of host/src."""
+    page = open(os.path.join(source, "docs", "library.md"), encoding="utf-8").read()
+    listed = set(re.findall(r"(?m)^\| `([a-z_]+\.hpp)`", page))
+    headers = set(f for f in os.listdir(os.path.join(source, "host", "include", "clsph")) if f.endswith(".hpp"))
+    if listed != headers:
+        raise DocError(f"docs/library.md: the header table differs from host/include/clsph/: "
+                       f"missing {sorted(headers - listed)}, not a header {sorted(listed - headers)}")
+    layout = open(os.path.join(source, "docs", "layout.md"), encoding="utf-8").read()
+    names = set(re.findall(r"(?m)^\s*([\w./-]+/)", layout))
+    tree = set(d + "/" for d in os.listdir(source) if os.path.isdir(os.path.join(source, d))
+               and not d.startswith(".") and d not in ("build", "out") and not d.startswith("build-"))
+    tree |= set(d + "/" for d in os.listdir(os.path.join(source, "host", "src"))
+                if os.path.isdir(os.path.join(source, "host", "src", d)))
+    missing = sorted(d for d in tree if not any(n == d or n.startswith(d) for n in names))
+    if missing:
+        raise DocError(f"docs/layout.md: no line for {missing}")
+
+
 def scratch_dir(source, build):
     """A directory that looks like the source tree (every top-level entry a link) with build/."""
     d = tempfile.mkdtemp(prefix="clsph-doc-")
@@ -228,6 +248,8 @@ def main():
         pages = [(rel, blocks_of(os.path.join(source, rel), rel)) for rel in files]
         for rel in files + ["BENCHMARKS.md", "BENCHMARKS_HISTORY.md"]:
             check_links(source, rel)
+        if not args.files:
+            check_lists(source)
         if "docs/cli.md" in files and not args.list:
             check_cli(source, args.build)
     except DocError as e:
