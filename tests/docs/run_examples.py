@@ -35,6 +35,7 @@ class Block:
         self.path, self.line, self.lang, self.text = path, line, lang, text
         self.skip = None
         self.env = {}
+        self.file = None
         for where, d in directives:
             if d.startswith("skip"):
                 reason = d[4:].strip()
@@ -49,6 +50,11 @@ class Block:
                 if old not in self.text:
                     raise DocError(f"{where}: replace: '{old}' is not in the block below (stale substitution)")
                 self.text = self.text.replace(old, new)
+            elif d.startswith("file"):
+                name = d[4:].strip()
+                if not name or os.path.isabs(name) or ".." in name.split("/"):
+                    raise DocError(f"{where}: file needs a relative path: file scenes/mine.json")
+                self.file = name
             elif d.startswith("env"):
                 for item in shlex.split(d[3:]):
                     name, sep, value = item.partition("=")
@@ -56,7 +62,7 @@ class Block:
                         raise DocError(f"{where}: env expects NAME=VALUE pairs, got '{item}'")
                     self.env[name] = value
             else:
-                raise DocError(f"{where}: unknown doc-test directive '{d}' (skip, replace, env)")
+                raise DocError(f"{where}: unknown doc-test directive '{d}' (skip, replace, env, file)")
 
     def where(self):
         return f"{self.path}:{self.line}"
@@ -87,7 +93,9 @@ def blocks_of(path, rel):
             i += 1
         i += 1
         kind = RUNNABLE.get(lang.lower())
-        if kind is None:
+        if any(d.startswith("file") for _, d in pending):
+            out.append(Block(rel, start, "file", "\n".join(body) + "\n", pending))
+        elif kind is None:
             if pending:
                 raise DocError(f"{pending[0][0]}: directive before a '{lang or 'untagged'}' block, which never runs")
         else:
@@ -206,6 +214,13 @@ def cpp_program(text):
 
 def run(block, cwd, env, args):
     env = dict(env, **block.env)
+    if block.lang == "file":
+        path = os.path.join(cwd, block.file)
+        if os.path.islink(path) or os.path.islink(os.path.dirname(path)):
+            raise DocError(f"file {block.file}: would write into the source tree (a linked folder)")
+        os.makedirs(os.path.dirname(path) or cwd, exist_ok=True)
+        open(path, "w").write(block.text)
+        return 0, ""
     if block.lang in ("sh", "console"):
         script = block.text if block.lang == "sh" else console_script(block.text)
         cmd = ["bash", "-euo", "pipefail", "-c", script]
