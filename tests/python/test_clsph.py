@@ -87,7 +87,7 @@ def test_an_image_is_a_numpy_array_and_the_camera_moves_it():
         sim.image(colour="speed")
 
 
-def test_the_readme_python_example_runs(monkeypatch):
+def test_the_python_page_example_runs(monkeypatch):
     """docs/python.md's first block, as written (issue 29: it had drifted and raised SceneError)."""
     page = open(os.path.join(SOURCE, "docs", "python.md")).read()
     block = page.split("```python\n", 1)[1].split("```", 1)[0]
