@@ -1,6 +1,6 @@
 // Real OpenCL failures, injected in the runtime layer (CLSPH_TEST_FAULT: the Nth launch, allocation,
 // read or build on a device fails with the driver's error code), on one device and on every device
-// there is: the exit status, the message, last_good.vtu and run.json are what the README says.
+// there is: the exit status, the message, last_good.vtu and run.json are what docs/cli.md says.
 // The faults go to clsph-faulty, the test build of the tool; the shipped clsph has no such hook.
 #include "support.hpp"
 

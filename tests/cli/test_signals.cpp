@@ -1,5 +1,5 @@
 // Runs stopped from outside: the test starts the tool, signals it mid-run (SIGTERM, two Ctrl-Cs,
-// SIGKILL) and reads every file back: what the README promises is on disk.
+// SIGKILL) and reads every file back: what docs/cli.md promises is on disk.
 #include "support.hpp"
 
 #include <cstdio>

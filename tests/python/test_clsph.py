@@ -87,13 +87,13 @@ def test_an_image_is_a_numpy_array_and_the_camera_moves_it():
         sim.image(colour="speed")
 
 
-def test_the_readme_python_example_runs(monkeypatch):
-    """The README's Python block, as written (issue 29: it had drifted and raised SceneError)."""
-    readme = open(os.path.join(SOURCE, "README.md")).read()
-    block = readme.split("## Python", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+def test_the_python_page_example_runs(monkeypatch):
+    """docs/python.md's first block, as written (issue 29: it had drifted and raised SceneError)."""
+    page = open(os.path.join(SOURCE, "docs", "python.md")).read()
+    block = page.split("```python\n", 1)[1].split("```", 1)[0]
     monkeypatch.chdir(SOURCE)
     namespace = {}
-    exec(compile(block, "README.md (Python)", "exec"), namespace)
+    exec(compile(block, "docs/python.md", "exec"), namespace)
     assert namespace["sim"].time >= 0.02
     assert namespace["im"].shape == (360, 640, 3)
 
