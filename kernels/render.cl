@@ -114,3 +114,63 @@ __kernel void render_shade(const uint triangles, const float4 eye, const float4 
     RASTER(&c, a, b, d, SHADE_PIXEL);
 #undef SHADE_PIXEL
 }
+
+#include "shared.h"
+#include "colour_map.h"
+
+// The same shading with the colour taken per vertex: `values` holds each vertex's t in [0, 1] (a
+// field through colour_map.h; below 0: no fluid near it, drawn in `base`), interpolated across the
+// triangle with perspective-correct weights.
+__kernel void render_shade_field(const uint triangles, const float4 eye, const float4 right, const float4 up,
+                                 const float4 forward, const float4 view, const uint2 size, const float4 base,
+                                 __global const float4* pos, __global const float4* nrm, __global const uint* tri,
+                                 __global const float* values, __global const uint* depth, __global uint* colour) {
+    const Camera c = camera_of(eye, right, up, forward, view, size);  // arguments first (see render_depth)
+    __global const float4* const p_pos = pos;
+    __global const float4* const p_nrm = nrm;
+    __global const uint* const p_tri = tri;
+    __global const float* const p_values = values;
+    __global const uint* const p_depth = depth;
+    __global uint* const p_colour = colour;
+    const float4 p_base = base;
+    const uint count = triangles;
+    const uint t = get_global_id(0);
+    if (t >= count) return;
+    const uint i0 = p_tri[3u * t], i1 = p_tri[3u * t + 1u], i2 = p_tri[3u * t + 2u];
+    const float3 a = project(&c, p_pos[i0].xyz), b = project(&c, p_pos[i1].xyz), d = project(&c, p_pos[i2].xyz);
+    const float3 n0 = p_nrm[i0].xyz, n1 = p_nrm[i1].xyz, n2 = p_nrm[i2].xyz;
+    const float v0 = p_values[i0], v1 = p_values[i1], v2 = p_values[i2];
+    const float3 key = normalize((float3)(0.3f, -0.5f, 0.8f));
+#define FIELD_PIXEL(x, y, z, w0, w1, w2)                                                          \
+    do {                                                                                         \
+        const uint at = (uint)(y) * c.width + (uint)(x);                                         \
+        if (p_depth[at] != as_uint(z)) break;                                                      \
+        float3 n = w0 * n0 + w1 * n1 + w2 * n2;                                                  \
+        const float len = length(n);                                                             \
+        n = len > 0.0f ? n / len : -c.forward.xyz;                                               \
+        const float l = 0.25f + 0.45f * fabs(dot(n, c.forward.xyz)) + 0.35f * fmax(dot(n, key), 0.0f); \
+        /* perspective-correct: weights over depth, renormalised */                              \
+        const float q0 = (w0) / a.z, q1 = (w1) / b.z, q2 = (w2) / d.z;                            \
+        const float qs = q0 + q1 + q2;                                                           \
+        float3 col = p_base.xyz;                                                                 \
+        if (v0 >= 0.0f && v1 >= 0.0f && v2 >= 0.0f && qs > 0.0f) {                               \
+            float r, g, bl;                                                                      \
+            clsph_colour_map((q0 * v0 + q1 * v1 + q2 * v2) / qs, &r, &g, &bl);                   \
+            col = (float3)(r, g, bl);                                                            \
+        } else if (v0 >= 0.0f || v1 >= 0.0f || v2 >= 0.0f) {                                     \
+            /* the vertices that have a value */                                                 \
+            const float s0 = v0 >= 0.0f ? q0 : 0.0f, s1 = v1 >= 0.0f ? q1 : 0.0f, s2 = v2 >= 0.0f ? q2 : 0.0f; \
+            const float ss = s0 + s1 + s2;                                                       \
+            const float vv = ss > 0.0f ? (s0 * fmax(v0, 0.0f) + s1 * fmax(v1, 0.0f) + s2 * fmax(v2, 0.0f)) / ss \
+                                       : fmax(fmax(v0, v1), v2);                                 \
+            float r, g, bl;                                                                      \
+            clsph_colour_map(vv, &r, &g, &bl);                                                   \
+            col = (float3)(r, g, bl);                                                            \
+        }                                                                                        \
+        const float3 rgb = clamp(col * l, 0.0f, 1.0f);                                           \
+        p_colour[at] = (uint)(rgb.x * 255.0f + 0.5f) | ((uint)(rgb.y * 255.0f + 0.5f) << 8) |   \
+                     ((uint)(rgb.z * 255.0f + 0.5f) << 16) | (255u << 24);                       \
+    } while (0)
+    RASTER(&c, a, b, d, FIELD_PIXEL);
+#undef FIELD_PIXEL
+}

@@ -7,15 +7,22 @@
 // same whichever device draws which particle and the images of several devices add up exactly.
 #include "grid.h"
 #include "depth_min.h"
+#include "particle_field.h"
 
 // Particles [first, first + count) of the store. `lo` is the domain's min corner minus the eye
 // (the host subtracts in double, so positions near a far-away eye keep their resolution), view is
 // (pixels per unit of x / z, image centre x, y, sphere radius), unit the metres of one thickness
-// count. Boundary particles and particles waiting to leave (invalid key) are not drawn.
+// count. Boundary particles and particles waiting to leave (invalid key) are not drawn. With a
+// field (mode 1 speed, 2 pressure: particle_field.h), field_sum sums t * chord in the same counts
+// as the thickness, t the particle's field mapped onto [0, 1] by range (lo, hi): the field's mean
+// along the pixel's ray through the water, weighted by chord length, is field_sum / thickness (and
+// as exact and independent of the order and of the devices as the thickness).
 __kernel void splat_particles(const uint first, const uint count, const GridParams g, const float4 lo,
                               const float4 right, const float4 up, const float4 forward, const float4 view,
-                              const uint2 size, const float unit, __global const float4* pos,
-                              __global const uint* ids, __global uint* depth, __global uint* thickness) {
+                              const uint2 size, const float unit, const uint mode, const float2 range,
+                              const SphParams sp, __global const float4* pos, __global const uint* ids,
+                              __global const float4* velrho, __global uint* depth, __global uint* thickness,
+                              __global uint* field_sum) {
     // Every argument read before any branch (Mesa rusticl 22.3: see kernels/render.cl).
     const GridParams gp = g;
     const float3 origin = lo.xyz, ax = right.xyz, ay = up.xyz, az = forward.xyz;
@@ -26,6 +33,11 @@ __kernel void splat_particles(const uint first, const uint count, const GridPara
     __global const uint* const p_ids = ids;
     __global uint* const p_depth = depth;
     __global uint* const p_thick = thickness;
+    __global const float4* const p_vr = velrho;
+    __global uint* const p_field = field_sum;
+    const uint field_mode = mode;
+    const float f_lo = range.x, f_hi = range.y;
+    const SphParams s = sp;
     const uint begin = first, n = count;
     const uint i = get_global_id(0);
     if (i >= n) return;
@@ -50,6 +62,12 @@ __kernel void splat_particles(const uint first, const uint count, const GridPara
     const int y0 = max(0, (int)floor(py - reach)), y1 = min(h - 1, (int)ceil(py + reach));
     if (x1 < x0 || y1 < y0 || (x1 - x0 + 1) * (y1 - y0 + 1) > 1 << 18) return;  // off screen, or at the lens
     const float r2 = r * r;
+    float t = 0.0f;
+    if (field_mode != 0u) {
+        const float f = particle_field(field_mode, &s, p_vr[begin + i]);
+        t = f_hi > f_lo ? clamp((f - f_lo) / (f_hi - f_lo), 0.0f, 1.0f) : 0.0f;
+        if (!isfinite(t)) t = 0.0f;
+    }
     for (int y = y0; y <= y1; ++y)
         for (int xx = x0; xx <= x1; ++xx) {
             // The pixel's ray (u, v, 1), unit direction d; the centre's distance from it through
@@ -64,6 +82,8 @@ __kernel void splat_particles(const uint first, const uint count, const GridPara
             const float z = (along - half_chord) * d.z;  // the front hit's depth along forward
             const uint at = (uint)y * (uint)w + (uint)xx;
             depth_min(&p_depth[at], as_uint(z));
-            atomic_add(&p_thick[at], max(1u, (uint)(2.0f * half_chord * inv_unit + 0.5f)));  // drawn: at least 1
+            const uint chord = max(1u, (uint)(2.0f * half_chord * inv_unit + 0.5f));  // drawn: at least 1
+            atomic_add(&p_thick[at], chord);
+            if (field_mode != 0u) atomic_add(&p_field[at], (uint)(t * (float)chord + 0.5f));
         }
 }

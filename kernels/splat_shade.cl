@@ -6,6 +6,8 @@
 // by the thickness, and a sun's highlight. A pixel a launch each; images are row-major from the top.
 // Depths are floats' bits (all ones: nothing), along the camera's forward axis.
 #define SPLAT_EMPTY 0xffffffffu
+#include "shared.h"
+#include "colour_map.h"
 
 // One pass of the bilateral filter along x (axis 0) or y (axis 1): neighbours within `world`
 // metres (in pixels at the pixel's depth, at most max_px) weighted by a Gaussian of their distance,
@@ -153,12 +155,15 @@ inline bool surface_step(const Shading* s, __global const uint* depth, const int
 // ground: (sun direction, checker tile); absorb: per-channel absorption per metre (thickness in
 // metres, smoothed); tint: the colour deep water tends to; edge: the thickness (m) over which
 // water goes from clear to opaque at its rim (x), of a full refraction offset (y), and the depth
-// step (m) that is a silhouette rather than a slope (z).
+// step (m) that is a silhouette rather than a slope (z). by_field: the water coloured by `field`
+// (each pixel's t in [0, 1] through colour_map.h; below 0: none), nearly opaque, lit by the sun and
+// with a weaker reflection, so that the colour reads as the field's and not the background's.
 __kernel void splat_shade(const uint2 size, const float4 view, const float4 right, const float4 up,
                           const float4 forward, const float4 eye, const float4 sky, const float4 ground,
-                          const float4 absorb, const float4 tint, const float4 edge, __global const uint* water,
-                          __global const float* thickness, __global const uint* solid_depth,
-                          __global const uint* solid_colour, __global uint* colour, __global uint* depth) {
+                          const float4 absorb, const float4 tint, const float4 edge, const uint by_field,
+                          __global const uint* water, __global const float* thickness,
+                          __global const uint* solid_depth, __global const uint* solid_colour,
+                          __global const float* field, __global uint* colour, __global uint* depth) {
     Shading s;
     s.right = right.xyz;
     s.up = up.xyz;
@@ -180,6 +185,8 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     __global const float* const p_thick = thickness;
     __global const uint* const p_sd = solid_depth;
     __global const uint* const p_sc = solid_colour;
+    __global const float* const p_field = field;
+    const uint coloured = by_field;
     __global uint* const p_colour = colour;
     __global uint* const p_depth = depth;
     const int i = (int)get_global_id(0);
@@ -221,6 +228,13 @@ __kernel void splat_shade(const uint2 size, const float4 view, const float4 righ
     const float facing = 0.55f + 0.45f * fmax(dot(nw, s.sun), 0.0f);
     const float3 through = seen * kept + facing * deep * (1.0f - kept);
     float3 c = mix(through, reflected, fresnel);
+    if (coloured != 0u) {
+        float r, g, b;
+        clsph_colour_map(p_field[i], &r, &g, &b);
+        const float3 base = (float3)(r, g, b);
+        const float lit = 0.6f + 0.4f * fmax(dot(nw, s.sun), 0.0f);
+        c = mix(base * lit, reflected, 0.35f * fresnel);
+    }
     const float glint = dot(mirror, s.sun);
     c += (0.9f * pow(fmax(glint, 0.0f), 180.0f) + 0.12f * pow(fmax(glint, 0.0f), 12.0f)) * (float3)(1.0f, 0.97f, 0.9f);
     // A single drop's rim is clear: fade to the background over the first `rim` of thickness.

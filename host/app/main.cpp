@@ -4,12 +4,14 @@
 //   clsph resume DIR [--until T] [--devices SPEC] [--steps N]
 //   clsph surface DIR [--devices SPEC] [--spacing M] [--ply]
 //   clsph render DIR [--devices SPEC] [--spacing M] [--video]
+//   clsph view DIR [--devices SPEC] [--port PORT] [--serve-host ADDR]
 #include "devices_command.hpp"
 #include "resume_args.hpp"
 #include "run_args.hpp"
 #include "run_command.hpp"
 #include "run_options.hpp"
 #include "surface_command.hpp"
+#include "view_command.hpp"
 
 #include <CLI/CLI.hpp>
 #include <clsph/build_info.hpp>
@@ -64,6 +66,15 @@ int main(int argc, char** argv) {
     render->add_option("--spacing", render_args.spacing, "sample spacing in m (default: dp/2)")->check(CLI::PositiveNumber);
     render->add_flag("--video", render_args.video, "and an MP4 of the images, if ffmpeg is installed");
 
+    auto* view = app.add_subcommand("view", "the live view's page over a run's output directory (finished or growing), "
+                                            "with a timeline of its frames (docs/live_view.md)");
+    clsph::app::ViewArgs view_args;
+    view->add_option("dir", view_args.dir, "the output directory of a clsph run")->required();
+    view->add_option("--devices", view_args.devices, "devices to render on (as clsph run --devices; any, CPU included)");
+    view->add_option("--port", view_args.port, "the port to serve on (default 8080)")->check(CLI::Range(1, 65535));
+    view->add_option("--serve-host", view_args.host,
+                     "listen on ADDR instead of 127.0.0.1 (no authentication: docs/live_view.md)");
+
     auto* run = app.add_subcommand("run", "run a scene; frames, stats, probes and run.json go to the output directory");
     clsph::app::RunOptions run_options(*run);
 
@@ -96,6 +107,7 @@ int main(int argc, char** argv) {
             return clsph::app::run_command(run_args);
         }
         if (*render) return clsph::app::surface_command(render_args);
+        if (*view) return clsph::app::view_command(view_args);
         if (*run) {
             run_args = run_options.args();
             run_args.command_line.assign(argv, argv + argc);

@@ -1,5 +1,6 @@
 #include "surface_command.hpp"
 
+#include "run_dir.hpp"
 #include "surface_output.hpp"
 
 #include <clsph/error.hpp>
@@ -17,18 +18,13 @@
 namespace clsph::app {
 
 int surface_command(const SurfaceArgs& args) {
-    namespace fs = std::filesystem;
     const std::string record = args.dir + "/run.json";
-    std::ifstream in(record);
-    if (!in) throw Error("clsph surface: cannot read " + record + " (is " + args.dir + " the output directory of clsph run?)");
+    const Scene scene = scene_of_run(args.dir, "clsph surface");
     nlohmann::json run;
-    try {
+    {
+        std::ifstream in(record);
         in >> run;
-    } catch (const std::exception& e) {
-        throw Error(record + ": not valid JSON (" + e.what() + ")");
     }
-    if (!run.contains("scene") || !run["scene"].is_object()) throw Error(record + ": has no \"scene\" object");
-    const Scene scene = Scene::from_json_text(run["scene"].dump(), record + ": scene");
     // Frames thinned by --output-stride or --output-box hold a part of the fluid: its surface
     // would be a wrong one (the run's own --surface meshes every particle).
     if (run.contains("command_line") && run["command_line"].is_array()) {
@@ -44,9 +40,7 @@ int surface_command(const SurfaceArgs& args) {
                             "meshes every particle while it runs)");
         }
     }
-    std::string pvd;
-    for (const auto& e : fs::directory_iterator(args.dir))
-        if (e.path().extension() == ".pvd" && e.path().filename() != "surface.pvd") pvd = e.path().string();
+    const std::string pvd = frames_pvd(args.dir);
     if (pvd.empty()) throw Error("clsph surface: no frame collection (.pvd) in " + args.dir);
     const auto frames = read_pvd(pvd);
     if (frames.empty()) throw Error(pvd + ": lists no frame");

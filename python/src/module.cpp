@@ -208,7 +208,10 @@ PYBIND11_MODULE(_clsph, m) {
                 throw Error("image: width and height must be within 1..8192 pixels");
             ImageStyle style;
             if (colour == "device") style.surface = SurfaceColour::by_device;
-            else if (colour != "uniform") throw Error("image: colour must be \"uniform\" or \"device\", got \"" + colour + "\"");
+            else if (colour == "speed") style.surface = SurfaceColour::by_speed;
+            else if (colour == "pressure") style.surface = SurfaceColour::by_pressure;
+            else if (colour != "uniform")
+                throw Error("image: colour must be \"uniform\", \"device\", \"speed\" or \"pressure\", got \"" + colour + "\"");
             Image im;
             {
                 py::gil_scoped_release unlocked;
@@ -220,7 +223,8 @@ PYBIND11_MODULE(_clsph, m) {
         }, py::arg("camera") = py::none(), py::arg("width") = 0, py::arg("height") = 0, py::arg("colour") = "uniform",
            "An image of the state now, as the scene's render.method draws it: (height, width, 3) uint8, rows from the "
            "top. camera: None (the scene's) or {'eye', 'target', 'up': [x, y, z], 'fov': degrees}; width, height: "
-           "pixels (0: the scene's render.size); colour: 'uniform' or 'device' (each device's slab its own).")
+           "pixels (0: the scene's render.size); colour: 'uniform', 'device' (each device's slab its own), 'speed' or "
+           "'pressure' (a colour map over the field's range now).")
         .def_property_readonly("time", &Simulation::time)
         .def_property_readonly("info", &Simulation::info)
         .def_property_readonly("scene", &Simulation::scene)

@@ -83,8 +83,10 @@ def test_an_image_is_a_numpy_array_and_the_camera_moves_it():
     for bad in ({"eye": [float("nan"), 0, 0]}, {"fov": 0}, {"zoom": 2}, {"eye": [1, 2]}):
         with pytest.raises(clsph.Error):
             sim.image(camera=bad, width=160, height=120)
+    by_speed = sim.image(width=160, height=120, colour="speed")
+    assert by_speed.shape == im.shape and (by_speed != im).any()
     with pytest.raises(clsph.Error):
-        sim.image(colour="speed")
+        sim.image(colour="heat")
 
 
 def test_the_python_page_example_runs(monkeypatch):

@@ -2,6 +2,7 @@
 // few threads of its own (cpp-httplib), bound before the run starts so that a port in use is an
 // error before anything is written. Stopped, and its threads joined, when it goes.
 #pragma once
+#include "http_common.hpp"
 #include "live_view.hpp"
 #include "orbit.hpp"
 
@@ -14,11 +15,6 @@ class Server;
 }
 
 namespace clsph::app::serve {
-
-struct ServeAddress {
-    std::string host = "127.0.0.1";
-    int port = 8080;
-};
 
 class LiveServer {
 public:
@@ -45,8 +41,5 @@ private:
     std::unique_ptr<httplib::Server> server_;
     std::thread listener_;
 };
-
-// --serve-host: whether an address is loopback only (127.0.0.0/8, ::1, localhost).
-bool is_loopback(const std::string& host);
 
 }  // namespace clsph::app::serve

@@ -17,7 +17,8 @@ constexpr auto frame_interval = std::chrono::microseconds(1000000 / 30);  // 30 
 constexpr double render_spacing = 2.0;
 
 bool same_view(const CameraView& a, const ImageStyle& sa, const CameraView& b, const ImageStyle& sb) {
-    return sa.surface == sb.surface && a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_deg == b.fov_deg &&
+    auto same = [](double x, double y) { return x == y || (std::isnan(x) && std::isnan(y)); };
+    return sa.surface == sb.surface && same(sa.range_min, sb.range_min) && same(sa.range_max, sb.range_max) && a.eye == b.eye && a.target == b.target && a.up == b.up && a.fov_deg == b.fov_deg &&
            a.width == b.width && a.height == b.height;
 }
 

@@ -58,16 +58,19 @@ OrbitOrError parse_orbit(const std::multimap<std::string, std::string>& params, 
             return out;
         }
         if (key == "colour") {
-            if (text != "surface" && text != "device") {
-                out.error = "colour must be surface or device, got '" + text.substr(0, 40) + "'";
+            if (text == "surface") o.style.surface = SurfaceColour::uniform;
+            else if (text == "device") o.style.surface = SurfaceColour::by_device;
+            else if (text == "speed") o.style.surface = SurfaceColour::by_speed;
+            else if (text == "pressure") o.style.surface = SurfaceColour::by_pressure;
+            else {
+                out.error = "colour must be surface, device, speed or pressure, got '" + text.substr(0, 40) + "'";
                 return out;
             }
-            o.style.surface = text == "device" ? SurfaceColour::by_device : SurfaceColour::uniform;
             continue;
         }
         const auto v = number(text);
-        if (key != "az" && key != "el" && key != "dist" && key != "w" && key != "h" && key != "t") {
-            out.error = "unknown camera parameter '" + key + "' (az, el, dist, w, h, colour)";
+        if (key != "az" && key != "el" && key != "dist" && key != "w" && key != "h" && key != "t" && key != "lo" && key != "hi") {
+            out.error = "unknown camera parameter '" + key + "' (az, el, dist, w, h, colour, lo, hi)";
             return out;
         }
         if (!v) {
@@ -96,8 +99,16 @@ OrbitOrError parse_orbit(const std::multimap<std::string, std::string>& params, 
                 return out;
             }
             (key == "w" ? o.width : o.height) = static_cast<std::uint32_t>(*v);
+        } else if (key == "lo") {
+            o.style.range_min = *v;  // the colour map's ends (speed m/s, pressure Pa); left out: found
+        } else if (key == "hi") {
+            o.style.range_max = *v;
         }
         // t: the page's cache buster, any number
+    }
+    if (std::isfinite(o.style.range_min) && std::isfinite(o.style.range_max) && !(o.style.range_max > o.style.range_min)) {
+        out.error = "hi must be greater than lo (the colour map's ends)";
+        return out;
     }
     out.orbit = o;
     return out;

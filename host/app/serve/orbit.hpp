@@ -12,7 +12,7 @@ namespace clsph::app::serve {
 struct Orbit {
     double azimuth_deg = 0, elevation_deg = 0, distance = 1;  // distance in m from the target
     std::uint32_t width = 640, height = 360;
-    ImageStyle style;  // colour=surface|device
+    ImageStyle style;  // colour=surface|device|speed|pressure, lo=, hi= (the colour map's ends)
 };
 
 // The largest image the page may ask for (4K UHD), the smallest, and the elevation limit (the
@@ -25,7 +25,7 @@ Orbit home_orbit(const CameraView& home);
 // The camera of `orbit` about `home`'s target, with `home`'s field of view.
 CameraView camera_of(const Orbit& orbit, const CameraView& home);
 
-// Reads az, el, dist, w, h and colour from the query (any left out: `home`'s); a value that is not a finite
+// Reads az, el, dist, w, h, colour, lo and hi from the query (any left out: `home`'s); a value that is not a finite
 // number, out of range or malformed gives the reason in the user's terms.
 struct OrbitOrError {
     std::optional<Orbit> orbit;

@@ -49,6 +49,7 @@ Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_gro
     const std::string opts = device.quirks().atomic_min_unreliable ? "-DCLSPH_DEPTH_BY_CAS" : "";
     depth_k_ = device.kernel("render.cl", "render_depth", opts);
     shade_k_ = device.kernel("render.cl", "render_shade", opts);
+    shade_field_k_ = device.kernel("render.cl", "render_shade_field", opts);
 }
 
 UploadedLayer Renderer::upload(const Layer& layer) {
@@ -113,6 +114,12 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
     for (const auto& u : layers) {  // every layer's depth first, then the colours
         if (u.count == 0) continue;
         const cl_float4 base{{u.colour[0], u.colour[1], u.colour[2], 1.0f}};
+        if (u.values) {
+            cl_rt::set_args(shade_field_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size,
+                            base, *u.positions, *u.normals, *u.triangles, *u.values, depth, colour);
+            device_.launch("render.shade", shade_field_k_, u.count, wg_);
+            continue;
+        }
         cl_rt::set_args(shade_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size, base,
                         *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);

@@ -26,6 +26,8 @@ struct DeviceLayer {
     const cl_rt::Buffer* triangles = nullptr;
     std::size_t count = 0;  // triangles
     std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
+    // Per vertex a field's t in [0, 1] for the colour map (render/field.hpp; below 0: `colour`); null: `colour`.
+    const cl_rt::Buffer* values = nullptr;
 };
 
 // The camera as the kernels take it: the eye, three unit axes (right, up, forward) and the image
@@ -68,7 +70,7 @@ public:
 
 private:
     cl_rt::Device& device_;
-    cl::Kernel depth_k_, shade_k_;
+    cl::Kernel depth_k_, shade_k_, shade_field_k_;
     std::size_t wg_;
 };
 

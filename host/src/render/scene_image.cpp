@@ -1,5 +1,6 @@
 #include "render/scene_image.hpp"
 
+#include "render/field.hpp"
 #include "render/renderer.hpp"
 
 #include <cmath>
@@ -124,22 +125,38 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     const TriangleMesh solids = box_mesh(scene.solids);
     std::vector<std::uint32_t> all_solids(solids.triangles.size());
     for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
+    const std::uint32_t mode = field_mode(style.surface);
+    const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
     std::vector<DepthImage> images;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
-        std::vector<Layer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
-        layers.push_back({&surface, mine[d], colour});
-        if (d == 0) layers.push_back({&solids, all_solids, kSolid});
         Renderer r(*slabs[d].device);
+        // The water's triangles uploaded to the device owning them, coloured there from its particles.
+        std::vector<UploadedLayer> up;
+        up.push_back(r.upload({&surface, mine[d], colour}));
+        if (d == 0) up.push_back(r.upload({&solids, all_solids, kSolid}));
+        std::vector<DeviceLayer> layers;
+        for (const auto& u : up) layers.push_back(u.layer());
+        cl_rt::Buffer values;
+        if (mode && up.front().count > 0) {
+            FieldSampler sampler(*slabs[d].device, grid, slabs[d].physics->point_options());
+            values = sampler.vertex_values(mode, driver.params(), range, up.front().positions, surface.positions.size(),
+                                           *slabs[d].store, *slabs[d].cells);
+            layers.front().values = &values;
+        }
         images.push_back(r.draw(camera, layers));
     }
-    return finish(std::move(images), scene, camera);
+    Image out = finish(std::move(images), scene, camera);
+    out.range = range;
+    return out;
 }
 
-Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
+Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const surface::DeviceParts& surface,
                    const CameraView& camera, const ImageStyle& style) {
     auto& slabs = driver.slabs();
+    const std::uint32_t mode = field_mode(style.surface);
+    const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
     const TriangleMesh solids = box_mesh(scene.solids);
     std::vector<std::uint32_t> all_solids(solids.triangles.size());
     for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
@@ -151,7 +168,16 @@ Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface:
         Renderer r(*slabs[d].device);
         std::vector<DeviceLayer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
-        if (water) layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), colour});
+        cl_rt::Buffer values;  // the field at the vertices, from this device's particles
+        if (water) {
+            layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), colour});
+            if (mode) {
+                FieldSampler sampler(*slabs[d].device, grid, slabs[d].physics->point_options());
+                values = sampler.vertex_values(mode, driver.params(), range, part->positions(), part->vertex_count(),
+                                               *slabs[d].store, *slabs[d].cells);
+                layers.back().values = &values;
+            }
+        }
         UploadedLayer boxes_up;  // drawn in the same image as the water (one read-back)
         if (boxes) {
             boxes_up = r.upload({&solids, all_solids, kSolid});
@@ -159,7 +185,9 @@ Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface:
         }
         images.push_back(r.draw(camera, layers));
     }
-    return finish(std::move(images), scene, camera);
+    Image out = finish(std::move(images), scene, camera);
+    out.range = range;
+    return out;
 }
 
 }  // namespace clsph::render

@@ -18,10 +18,12 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                    const CameraView& camera, const ImageStyle& style = {});
 // The same from the surface where the devices made it (surface::surface_on_devices): each device
 // draws its own part from its own memory; only the images move.
-Image render_scene(multi::SlabDriver& driver, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera, const ImageStyle& style = {});
+Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                   const surface::DeviceParts& surface, const CameraView& camera, const ImageStyle& style = {});
 
-// The same picture with the water drawn by splats (render.method "splat", render/splat.hpp): no mesh.
-Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera);
+// The same picture with the water drawn by splats (render.method "splat", render/splat.hpp): no mesh;
+// `style` by a field colours the splats (by_device: drawn as uniform).
+Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
+                  const ImageStyle& style = {});
 
 }  // namespace clsph::render

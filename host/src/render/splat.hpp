@@ -10,6 +10,7 @@
 #include "device/particle_arrays.hpp"
 #include "render/renderer.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,7 +25,18 @@ struct SplatImage {
     std::uint32_t width = 0, height = 0;
     std::vector<std::uint32_t> depth;      // bits of a positive float (along forward); all ones: none
     std::vector<std::uint32_t> thickness;  // chord lengths summed, in counts of `unit` metres
+    // Coloured by a field: t in [0, 1] times the chord, summed in the thickness's counts (so the
+    // chord-weighted mean along the ray is field / thickness); empty otherwise.
+    std::vector<std::uint32_t> field;
     double unit = 0;
+};
+
+// What a splat pass colours by: the kernels' mode (render/field.hpp field_mode; 0: nothing) and the
+// field's values at t = 0 and 1.
+struct SplatField {
+    std::uint32_t mode = 0;
+    std::array<double, 2> range{0, 0};
+    SphParams sp{};
 };
 
 // The splat pass on one device: depth and thickness images of particles [first, first + count)
@@ -33,7 +45,7 @@ class Splatter {
 public:
     Splatter(cl_rt::Device& device, const device::Grid& grid);
     SplatImage draw(const CameraView& camera, const device::ParticleArrays& particles, std::size_t first,
-                    std::size_t count, double radius);
+                    std::size_t count, double radius, const SplatField& field = {});
 
 private:
     cl_rt::Device& device_;
@@ -43,7 +55,8 @@ private:
 };
 
 // The devices' splat images as one: the nearest depth and the sum of the thicknesses, pixel by
-// pixel (the sum is exact, so the result does not depend on how the particles were split).
+// pixel (the sum is exact, so the result does not depend on how the particles were split); the
+// fields' sums too.
 SplatImage composite(const std::vector<SplatImage>& images);
 
 // Where the picture sits in the world, for the shading: which way is up (against gravity), the
@@ -60,7 +73,8 @@ struct Environment {
 
 // Smoothing, normals and shading on one device: the water of `water` over `solids` (the solids'
 // depth image, from Renderer::draw; empty images: none), the ground and the sky. The result's
-// depth is the water's, the solids' or the ground's (for the walls' lines drawn after).
+// depth is the water's, the solids' or the ground's (for the walls' lines drawn after). Where
+// `water` has a field, the water takes the colour map's colour of its mean t.
 class SplatShader {
 public:
     explicit SplatShader(cl_rt::Device& device);

@@ -3,6 +3,7 @@
 // first device renders the solid boxes (Renderer, as the surface method does) and shades the water
 // over them, and the walls' outlines are drawn last with the depth test.
 #include "render/scene_image.hpp"
+#include "render/field.hpp"
 #include "render/splat.hpp"
 
 #include <algorithm>
@@ -40,9 +41,16 @@ Environment environment_of(const Scene& scene, const CameraView& camera) {
 
 }  // namespace
 
-Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera) {
+Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
+                  const ImageStyle& style) {
     auto& slabs = driver.slabs();
     const double radius = kSplatRadius * scene.physics.dp;
+    SplatField field;
+    field.mode = field_mode(style.surface);
+    if (field.mode) {
+        field.range = field_range(driver, grid, style);
+        field.sp = driver.params();
+    }
     std::vector<SplatImage> splats;
     cl_rt::Device* shading = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
@@ -51,7 +59,7 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
         if (!shading) shading = s.device;
         if (s.store->ranges.owned == 0 && !splats.empty()) continue;
         Splatter splatter(*s.device, grid);
-        splats.push_back(splatter.draw(camera, *s.store, s.store->ranges.first_owned(), s.store->ranges.owned, radius));
+        splats.push_back(splatter.draw(camera, *s.store, s.store->ranges.first_owned(), s.store->ranges.owned, radius, field));
     }
     const SplatImage water = composite(splats);
     DepthImage solids;
@@ -65,6 +73,7 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
     DepthImage im = shader.shade(camera, water, solids, environment_of(scene, camera));
     draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
     Image out;
+    if (field.mode) out.range = field.range;
     out.width = im.width;
     out.height = im.height;
     out.rgb.resize(std::size_t{3} * im.width * im.height);

@@ -50,6 +50,17 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
     auto solid_colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid colour");
     auto colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade colour");
     auto out_depth = device_.alloc(pixels * sizeof(cl_uint), "splat shade out depth");
+    // Coloured by a field: each pixel's chord-weighted mean t (-1 without water).
+    const bool by_field = !water.field.empty();
+    auto field = device_.alloc((by_field ? pixels : 1) * sizeof(cl_float), "splat shade field");
+    if (by_field) {
+        std::vector<float> t(pixels, -1.0f);
+        for (std::size_t p = 0; p < pixels; ++p)
+            if (water.thickness[p] > 0) t[p] = static_cast<float>(static_cast<double>(water.field[p]) / water.thickness[p]);
+        device_.write(field, t.data(), pixels);
+    } else {
+        device_.fill(field, cl_float(-1.0f), 1);
+    }
     device_.write(depth_a, water.depth.data(), pixels);
     std::vector<float> metres(pixels);  // counts to metres: the filter blurs the thickness as a float
     for (std::size_t p = 0; p < pixels; ++p) metres[p] = static_cast<float>(water.thickness[p] * water.unit);
@@ -81,8 +92,8 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
     const cl_float4 edge{{static_cast<float>(0.5 * env.radius), static_cast<float>(20 * env.radius),
                           static_cast<float>(kGapRadii * env.radius), 0.0f}};
     cl_rt::set_args(shade_k_, size, view, float4_of(b.right), float4_of(b.up), float4_of(b.forward), float4_of(b.eye), float4_of(up, eye_height),
-                    float4_of(unit(env.sun), env.tile), float4_of(env.absorb), float4_of(env.deep), edge, depth_a, thick,
-                    solid_depth, solid_colour, colour, out_depth);
+                    float4_of(unit(env.sun), env.tile), float4_of(env.absorb), float4_of(env.deep), edge, cl_uint{by_field ? 1u : 0u}, depth_a, thick,
+                    solid_depth, solid_colour, field, colour, out_depth);
     device_.launch("splat.shade", shade_k_, pixels, wg_);
 
     return read_depth_image(device_, out_depth, colour, camera.width, camera.height);

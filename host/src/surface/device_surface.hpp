@@ -74,6 +74,7 @@ public:
     const cl_rt::Buffer& normals() const { return normal_; }
     const cl_rt::Buffer& triangles() const { return triangles_; }
     std::size_t triangle_count() const { return triangle_count_; }
+    std::size_t vertex_count() const { return vertices_; }
     cl_rt::Device& device() const { return device_; }
 
 private:

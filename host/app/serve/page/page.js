@@ -1,6 +1,9 @@
 // The live view's behaviour: pulls JPEG frames one after another (the next is asked for when the
 // last has arrived, so a slow link drops frames instead of queueing them), orbits on drag, zooms
-// on the wheel, polls the status and the probes. Plain JavaScript, nothing loaded from elsewhere.
+// on the wheel, polls the status and the probes. Coloured by speed or pressure it shows the colour
+// map and its range (automatic or typed in). Served by clsph view (status mode "view") it shows a
+// timeline of the run's frames instead of the run's buttons. Plain JavaScript, nothing loaded
+// from elsewhere.
 "use strict";
 
 const view = document.getElementById("view");
@@ -13,6 +16,13 @@ const legend = document.getElementById("probe_legend");
 let home = null;     // the scene's camera as an orbit (GET /api/camera)
 let orbit = null;    // the camera now
 let ended = false;   // the run has ended: no more frames
+let viewing = false; // clsph view: frames of a run's directory, picked on the timeline
+let lastShown = "";  // the URL of the image on screen (clsph view: the same one is not asked again)
+const colourSelect = document.getElementById("colour");
+const legendBox = document.getElementById("legend");
+const rangeLo = document.getElementById("range_lo"), rangeHi = document.getElementById("range_hi");
+const timeline = document.getElementById("timeline"), frameLabel = document.getElementById("frame_label");
+let frameTimes = [];
 
 function fmtTime(s) {
   if (s === null || s === undefined || !isFinite(s)) return "–";
@@ -31,25 +41,72 @@ function frameSize() {
   return [Math.max(16, Math.round(w * cap)), Math.max(16, Math.round(h * cap))];
 }
 
+// A range end typed in: a finite number, or null (automatic); anything else is marked and left out.
+function rangeEnd(input) {
+  const text = input.value.trim();
+  const v = Number(text);
+  const ok = text === "" || isFinite(v);
+  input.style.borderColor = ok ? "" : "#ff7b8a";
+  return text !== "" && ok ? v : null;
+}
+
+function byField() { return colourSelect.value === "speed" || colourSelect.value === "pressure"; }
+
 function frameUrl() {
   const [w, h] = frameSize();
   const q = new URLSearchParams({az: orbit.az.toFixed(3), el: orbit.el.toFixed(3), dist: orbit.dist.toPrecision(6), w, h,
-                                 colour: document.getElementById("colour").value});
+                                 colour: colourSelect.value});
+  if (byField()) {
+    const lo = rangeEnd(rangeLo), hi = rangeEnd(rangeHi);
+    if (lo !== null) q.set("lo", String(lo));
+    if (hi !== null) q.set("hi", String(hi));
+  }
+  if (viewing) q.set("frame", timeline.value);
   return "frame.jpg?" + q.toString();
 }
+
+// The legend: the colour map as a gradient between the range's ends; the automatic ends as the
+// fields' placeholders.
+function showLegend(range) {
+  legendBox.hidden = !byField();
+  document.getElementById("range_unit").textContent = colourSelect.value === "speed" ? "m/s" : "Pa";
+  if (home && home.colour_map) {
+    const stops = home.colour_map.map(c => "rgb(" + c.map(x => Math.round(255 * x)).join(",") + ")");
+    document.getElementById("ramp").style.background = "linear-gradient(to right, " + stops.join(", ") + ")";
+  }
+  if (range) {
+    const [lo, hi] = range.split(" ").map(Number);
+    rangeLo.placeholder = "auto " + lo.toPrecision(3);
+    rangeHi.placeholder = "auto " + hi.toPrecision(3);
+  }
+}
+colourSelect.addEventListener("change", () => showLegend(null));
 
 let shown = null;  // the object URL on screen
 async function pullFrames() {
   while (!ended) {
     try {
-      const res = await fetch(frameUrl(), {cache: "no-store"});
+      const wanted = frameUrl();
+      if (viewing && wanted === lastShown) {  // a still picture: nothing to ask for until it changes
+        await new Promise(r => setTimeout(r, 100));
+        continue;
+      }
+      const res = await fetch(wanted, {cache: "no-store"});
       if (!res.ok) {
         const body = await res.json().catch(() => ({error: res.statusText}));
         message.textContent = body.error || ("HTTP " + res.status);
         await new Promise(r => setTimeout(r, 500));
         continue;
       }
+      const range = res.headers.get("X-Colour-Range");
+      if (range) showLegend(range);
+      const frame = res.headers.get("X-Frame");
+      if (frame) {
+        const [i, t] = frame.split(" ").map(Number);
+        frameLabel.textContent = "frame " + i + " of " + frameTimes.length + ", t = " + t.toPrecision(4) + " s";
+      }
       const url = URL.createObjectURL(await res.blob());
+      lastShown = wanted;
       view.src = url;
       if (shown) URL.revokeObjectURL(shown);
       shown = url;
@@ -97,7 +154,24 @@ document.getElementById("resume").onclick = () => post("api/resume");
 document.getElementById("step").onclick = () => post("api/step");
 document.getElementById("write").onclick = () => post("api/write");
 
+// clsph view: the timeline follows the frames listed (at its right end it follows a growing run).
+function showViewStatus(s) {
+  viewing = true;
+  for (const id of ["pause", "resume", "step", "write"]) document.getElementById(id).hidden = true;
+  document.getElementById("timeline_bar").hidden = false;
+  const atEnd = Number(timeline.value) >= Number(timeline.max);
+  frameTimes = s.times;
+  timeline.max = String(Math.max(0, s.frames - 1));
+  if (atEnd) timeline.value = timeline.max;
+  const parts = ["viewing " + s.dir, s.frames + " frames"];
+  if (frameTimes.length) parts.push("t = " + frameTimes[0].toPrecision(4) + " to " + frameTimes[frameTimes.length - 1].toPrecision(4) + " s");
+  if (s.devices.length) parts.push("rendered on " + s.devices.join(", "));
+  statusBar.textContent = parts.join(" · ");
+  ended = false;
+}
+
 function showStatus(s) {
+  if (s.mode === "view") return showViewStatus(s);
   const parts = [];
   parts.push(s.state);
   parts.push("t = " + s.time.toPrecision(5) + " s" + (s.until !== null ? " of " + s.until + " s" : ""));
@@ -204,6 +278,7 @@ async function pollProbes() {
     }
   }
   orbit = Object.assign({}, home);
+  showLegend(null);
   pollProbes();
   pullFrames();
 })();
