@@ -3,6 +3,7 @@
 // small records, never one Python object per particle. The GIL is released while the devices step.
 #include "clsph/devices.hpp"
 #include "clsph/error.hpp"
+#include "clsph/io.hpp"
 #include "clsph/render.hpp"
 #include "clsph/scene.hpp"
 #include "clsph/scene_io.hpp"
@@ -126,9 +127,34 @@ PYBIND11_MODULE(_clsph, m) {
         return out;
     }, "Every OpenCL device, in the order `clsph devices` lists them (dicts: index, platform, name, type, ...).");
 
+    m.def("read_frame", [](const std::string& path) {
+        Particles p;
+        {
+            py::gil_scoped_release unlocked;
+            const auto dot = path.rfind('.');
+            const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+            if (ext == ".csv") {
+                p = read_csv(path);
+            } else if (ext == ".vtu" || ext == ".pvtu") {
+                FrameFields present;
+                p = read_vtu(path, &present);
+            } else {
+                throw Error(path + ": not a frame clsph writes (.vtu, .pvtu or .csv)");
+            }
+        }
+        return particles_dict(p);
+    }, py::arg("path"),
+          "One frame as clsph writes it (a .vtu, raw or compressed, a .pvtu index of pieces, or a .csv)\n"
+          "as Simulation.particles() returns particles: a dict of NumPy arrays id, type, position,\n"
+          "velocity, density, pressure. Arrays a --fields frame left out are zeros.");
+
     py::class_<Scene>(m, "Scene", "A scene: physics, domain, fluid, boundaries, probes, run control (docs/scenes.md).")
-        .def_static("from_json", [](const std::string& text, const std::string& name) { return Scene::from_json_text(text, name); },
-                    py::arg("text"), py::arg("source_name") = "scene")
+        .def_static("from_json", [](const std::string& text, const std::string& name, const std::vector<std::string>& overrides) {
+                        return load_scene_text(text, name, overrides);
+                    },
+                    py::arg("text"), py::arg("source_name") = "scene", py::arg("overrides") = std::vector<std::string>{},
+                    "A scene from JSON text (errors name `source_name`), KEY=VALUE overrides applied as\n"
+                    "`clsph run --set` does; relative mesh paths are taken from the working directory.")
         .def_static("from_file", [](const std::string& path, const std::vector<std::string>& overrides) { return load_scene(path, overrides); },
                     py::arg("path"), py::arg("overrides") = std::vector<std::string>{},
                     "Reads a JSON scene file and applies KEY=VALUE overrides, as `clsph run --set` does.")

@@ -194,3 +194,84 @@ def test_ctrl_c_stops_run_until_at_the_end_of_a_step():
         timer.cancel()
     assert 1 < sim.info.step and sim.time < 1000.0
     sim.step()  # the simulation is still usable after the interrupt
+
+
+def by_id(p):
+    """The particle dict's arrays in id order (frames and devices order particles differently)."""
+    order = np.argsort(p["id"], kind="stable")
+    return {k: v[order] for k, v in p.items()}
+
+
+def assert_same_particles(a, b):
+    a, b = by_id(a), by_id(b)
+    assert sorted(a) == sorted(b)
+    for k in a:
+        assert a[k].shape == b[k].shape, k
+        assert a[k].dtype == b[k].dtype, k
+        assert np.array_equal(a[k], b[k]), k
+
+
+def test_a_simulation_takes_a_path_a_dict_or_a_scene_with_overrides_as_dict_or_strings():
+    device = first_device()
+    with open(HYDROSTATIC) as f:
+        doc = json.load(f)
+    runs = [
+        clsph.Simulation(HYDROSTATIC, devices=device),
+        clsph.Simulation(doc, devices=device),
+        clsph.Simulation(clsph.scene(HYDROSTATIC), devices=device),
+    ]
+    for sim in runs:
+        assert isinstance(sim, clsph.Simulation)
+        for _ in range(5):
+            sim.step()
+    first = runs[0].particles()
+    assert len(first["id"]) > 0
+    for sim in runs[1:]:
+        assert_same_particles(first, sim.particles())
+    # overrides: a dict and the same KEY=VALUE strings give the same scene, on a file and on a dict
+    as_dict = {"physics.dp": 0.03, "run.end_time": 0.5}
+    as_strings = ["physics.dp=0.03", "run.end_time=0.5"]
+    a = clsph.scene_dict(clsph.scene(HYDROSTATIC, as_dict))
+    assert a == clsph.scene_dict(clsph.scene(HYDROSTATIC, as_strings))
+    assert a == clsph.scene_dict(clsph.scene(doc, as_dict))
+    assert a["physics"]["dp"] == 0.03 and a["physics"]["dp"] != clsph.scene_dict(clsph.scene(doc))["physics"]["dp"]
+    sim = clsph.Simulation(doc, overrides=as_dict, devices=device)
+    assert sim.scene.dp == 0.03
+    # a bad override names the key and says it came from the override, for a dict source too
+    with pytest.raises(clsph.SceneError, match=r"physics\.dp.*physics\.dp=-1"):
+        clsph.Simulation(doc, overrides={"physics.dp": -1}, devices=device)
+    with pytest.raises(TypeError):
+        clsph.Simulation(HYDROSTATIC, overrides="physics.dp=0.03")
+    with pytest.raises(clsph.Error):
+        clsph.scene(clsph.scene(HYDROSTATIC), {"physics.dp": 0.03})
+
+
+def test_read_frame_reads_every_frame_clsph_writes_as_particles_gives_them(tmp_path):
+    device = first_device()
+    sim = clsph.Simulation(HYDROSTATIC, devices=device)
+    for _ in range(20):
+        sim.step()
+    want = sim.particles()
+    frames = {}
+    for label, extra in [("raw", []), ("compressed", ["--compress"]), ("pieces", ["--pieces"]), ("csv", ["--csv"])]:
+        out = tmp_path / label
+        subprocess.run([TOOL, "run", HYDROSTATIC, "--steps", "20", "--every", "1000", "--devices", device,
+                        "--out", str(out)] + extra, check=True, stdout=subprocess.DEVNULL)
+        pattern = {"pieces": "*.pvtu", "csv": "frame_*.csv"}.get(label, "frame_*.vtu")
+        found = sorted(out.glob(pattern))
+        assert found, "%s: no %s in %s" % (label, pattern, out)
+        frames[label] = found[-1]
+    for label, path in frames.items():
+        got = clsph.read_frame(str(path))
+        # every format holds the state exactly: positions in float64, the rest in float32
+        assert_same_particles(want, got)
+    with pytest.raises(clsph.Error, match="not a frame"):
+        clsph.read_frame(str(tmp_path / "raw" / "run.json"))
+    with pytest.raises(clsph.Error):
+        clsph.read_frame(str(tmp_path / "no_such_frame.vtu"))
+
+
+def test_help_shows_the_docstrings():
+    assert "dict" in clsph.Simulation.__doc__ and "overrides" in clsph.Simulation.__doc__
+    assert "frame" in clsph.read_frame.__doc__
+    assert "KEY=VALUE" in clsph.scene.__doc__

@@ -14,4 +14,9 @@ namespace clsph {
 // the key and, when an override caused it, the override.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+// The same for a JSON text that is not a file (a Python dict, a string built by a host program):
+// errors name `source_name`; relative mesh paths are taken from the working directory.
+Scene load_scene_text(const std::string& text, const std::string& source_name,
+                      const std::vector<std::string>& overrides = {});
+
 }  // namespace clsph

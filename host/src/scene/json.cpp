@@ -33,11 +33,21 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 Scene scene::load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+    return load_scene_document(text, path, origin_of_file(path), overrides);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& source_name, const std::vector<std::string>& overrides) {
+    // Relative mesh paths in a text without a file are taken from the working directory.
+    return scene::load_scene_document(text, source_name, {scene::scene_name_for(source_name), ""}, overrides);
+}
+
+Scene scene::load_scene_document(const std::string& text, const std::string& path, const DocumentOrigin& origin,
+                                 const std::vector<std::string>& overrides) {
     scene::Json doc = scene::parse_scene_text(text, path);
     std::vector<std::string> keys;
     for (const auto& o : overrides) keys.push_back(scene::apply_override(doc, o, path));
     try {
-        return scene::scene_from_document(doc, origin_of_file(path));
+        return scene::scene_from_document(doc, origin);
     } catch (const SceneError& e) {
         // "key: message"; when an override set that key (or one around it), say so.
         std::string message = e.what();

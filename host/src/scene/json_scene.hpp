@@ -24,6 +24,9 @@ Json scene_to_document(const Scene& scene);
 
 // load_scene on the text of the file at `path` (already read): what the fuzzer drives.
 Scene load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides);
+// The same with the origin relative mesh paths are resolved against given.
+Scene load_scene_document(const std::string& text, const std::string& path, const DocumentOrigin& origin,
+                          const std::vector<std::string>& overrides);
 
 // The scene's name for a file ("scenes/dam_break.json" -> "dam_break").
 std::string scene_name_for(const std::string& path);
