@@ -3,6 +3,7 @@
 #include "process.hpp"
 
 #include <clsph/io.hpp>
+#include <clsph/scene_io.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -28,6 +29,31 @@ inline const std::vector<std::string> tiny = {
     "--set", "physics.dp=0.0146", "--set", "physics.coefsound=10",
     "--set", "domain.max=[0.624,0.1898,0.45]", "--set", "fluid[0].max=[0.146,0.1752,0.292]",
     "--set", "boundaries.walls[0].max=[0.584,0.1752,0.365]"};
+
+// The tiny dam break's particles as the library builds them (clsph::load_scene with the same
+// --set overrides, then Scene::build_particles), so the tests compare what the tool wrote against
+// the scene rather than against a number copied from an earlier run. `more` are further --set
+// KEY=VALUE overrides the run was given.
+struct TinyCount {
+    std::size_t total = 0, fluid = 0, boundary = 0;
+};
+inline TinyCount tiny_count(const std::vector<std::string>& more = {}) {
+    std::vector<std::string> overrides;
+    for (std::size_t i = 0; i + 1 < tiny.size(); i += 2) overrides.push_back(tiny[i + 1]);  // {"--set", KEY=VALUE}...
+    overrides.insert(overrides.end(), more.begin(), more.end());
+    const clsph::Particles p = clsph::load_scene(scene, overrides).build_particles();
+    TinyCount c;
+    c.total = p.size();
+    c.fluid = static_cast<std::size_t>(std::count(p.type.begin(), p.type.end(), clsph::ParticleType::fluid));
+    c.boundary = c.total - c.fluid;
+    return c;
+}
+
+// How many frames a run from t = 0 to `until` with a frame every `every` writes: one at t = 0 and
+// one at each multiple of `every` up to `until` (docs/cli.md: frames land exactly on multiples of DT).
+inline std::size_t frames_implied(double until, double every) {
+    return static_cast<std::size_t>(std::floor(until / every + 1e-9)) + 1;
+}
 
 inline std::string work_dir(const std::string& name) {
     const std::string dir = std::string(CLSPH_CLI_WORK) + "/" + name;

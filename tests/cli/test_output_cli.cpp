@@ -4,6 +4,7 @@
 // writes zlib-compressed frames equal to the raw ones; --pieces a VTU per device and a .pvtu whose
 // pieces hold every particle once (two pocl devices, else skipped with a message).
 #include "support.hpp"
+#include "../support/skip.hpp"
 
 #include <clsph/error.hpp>
 
@@ -165,7 +166,7 @@ TEST_CASE("--compress: frames ParaView reads zlib-compressed, smaller, reading b
 // Needs two devices: POCL_DEVICES="basic pthread" (as scripts/test.sh sets it).
 TEST_CASE("--pieces: one VTU per device and a .pvtu per frame, every particle exactly once, thinned as asked") {
     if (devices_picked("platform:pocl") < 2) {
-        MESSAGE("skipped: --pieces needs two pocl devices (POCL_DEVICES=\"basic pthread\"); this host has one");
+        test_skip::skip("--pieces needs two pocl devices (POCL_DEVICES=\"basic pthread\"); this host has one");
         return;
     }
     const std::string whole = work_dir("pieces_whole"), split = work_dir("pieces_split"), thin = work_dir("pieces_thin");

@@ -1,6 +1,7 @@
 // The free surface from the command line: `clsph run --surface` writes a mesh per frame listed in
 // surface.pvd at the frames' times, and `clsph surface DIR` meshes a finished run's frames again.
 #include "support.hpp"
+#include "../support/image.hpp"
 
 #include <clsph/mesh.hpp>
 #include <clsph/render.hpp>
@@ -30,34 +31,68 @@ bool closed(const clsph::TriangleMesh& m, double period = 0.1898, double spacing
         if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a)) && !(on_face(a) && on_face(b))) return false;
     return !edges.empty();
 }
+
+std::string numbered(const std::string& prefix, std::size_t i, const std::string& extension) {
+    char name[48];  // room for any size_t: no -Wformat-truncation
+    std::snprintf(name, sizeof name, "%s_%05zu%s", prefix.c_str(), i, extension.c_str());
+    return name;
+}
+
+// The times --until/--every imply: a frame at t = 0 and at every multiple of `every` to `until`.
+void check_frame_times(const std::vector<clsph::PvdEntry>& frames, double every) {
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        CAPTURE(i);
+        CHECK(near(frames[i].time, every * static_cast<double>(i)));
+    }
+}
 }  // namespace
 
 TEST_CASE("clsph run --surface and clsph surface: a closed mesh per frame, listed at the frames' times") {
     const std::string out = work_dir("surface");
+    const std::string until = "0.01", every = "0.005";
+    const std::size_t expected = frames_implied(std::stod(until), std::stod(every));
     std::string log;
-    int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--surface-ply", "--out", out}}), log);
+    int code = run(args({{"run", scene}, tiny, {"--until", until, "--every", every, "--surface-ply", "--out", out}}), log);
     INFO(log);
     REQUIRE(code == 0);
+    // Every frame the arguments imply, at its time, on disk; a surface (VTP and PLY) for each.
     const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
+    REQUIRE(frames.size() == expected);
+    check_frame_times(frames, std::stod(every));
+    for (const auto& f : frames) CHECK_MESSAGE(fs::exists(out + "/" + f.file), f.file);
     const auto surfaces = clsph::read_pvd(out + "/surface.pvd");
-    REQUIRE(surfaces.size() == frames.size());
+    REQUIRE(surfaces.size() == expected);
+    CHECK(count_files(out, "surface_", ".vtp") == expected);
+    CHECK(count_files(out, "surface_", ".ply") == expected);
     for (std::size_t i = 0; i < frames.size(); ++i) {
+        CAPTURE(i);
         CHECK(surfaces[i].time == frames[i].time);
+        REQUIRE_MESSAGE(fs::exists(out + "/" + surfaces[i].file), surfaces[i].file);
         CHECK(fs::file_size(out + "/" + surfaces[i].file) > 1000);
-        const auto ply = out + "/" + surfaces[i].file.substr(0, surfaces[i].file.size() - 4) + ".ply";
+        const auto ply = out + "/" + fs::path(surfaces[i].file).replace_extension(".ply").string();
+        REQUIRE_MESSAGE(fs::exists(ply), ply);
         const auto mesh = clsph::read_ply(ply);
         CHECK(mesh.triangles.size() > 100);
         CHECK(closed(mesh));
     }
-    // Afterwards, from the frames on disk: the same number of surfaces at the same times.
-    fs::remove(out + "/surface.pvd");
+    // Afterwards, from the frames on disk (the run's surfaces removed first, so that none of them
+    // passes for one meshed again): the same number of surfaces at the same times.
+    for (const auto& e : std::vector<fs::directory_entry>(fs::directory_iterator(out), fs::directory_iterator()))
+        if (e.path().filename().string().rfind("surface", 0) == 0) fs::remove(e.path());
+    REQUIRE(count_files(out, "surface", ".pvd") == 0);
     code = run({"surface", out, "--ply"}, log);
     INFO(log);
     REQUIRE(code == 0);
     const auto again = clsph::read_pvd(out + "/surface.pvd");
-    REQUIRE(again.size() == frames.size());
-    for (std::size_t i = 0; i < frames.size(); ++i) CHECK(again[i].time == frames[i].time);
-    CHECK(closed(clsph::read_ply(out + "/surface_00000.ply")));
+    REQUIRE(again.size() == expected);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        CAPTURE(i);
+        CHECK(again[i].time == frames[i].time);
+        CHECK_MESSAGE(fs::exists(out + "/" + again[i].file), again[i].file);
+        const std::string ply = out + "/" + numbered("surface", i, ".ply");
+        REQUIRE_MESSAGE(fs::exists(ply), ply);
+        CHECK(closed(clsph::read_ply(ply)));
+    }
     // Not an output directory: a clear error, exit 1.
     code = run({"surface", out + "/no_such_dir"}, log);
     CHECK(code == 1);
@@ -66,22 +101,27 @@ TEST_CASE("clsph run --surface and clsph surface: a closed mesh per frame, liste
 
 TEST_CASE("clsph run --render and clsph render: a PNG per surface, a note or a video") {
     const std::string out = work_dir("render");
+    const std::string until = "0.01", every = "0.005";
+    const std::size_t expected = frames_implied(std::stod(until), std::stod(every));
     std::string log;
-    int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--render", "--video", "--set",
+    int code = run(args({{"run", scene}, tiny, {"--until", until, "--every", every, "--render", "--video", "--set",
                                                 "render.size=[320,180]", "--out", out}}),
                    log);
     INFO(log);
     REQUIRE(code == 0);
     const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
+    REQUIRE(frames.size() == expected);
+    check_frame_times(frames, std::stod(every));
+    CHECK(clsph::read_pvd(out + "/surface.pvd").size() == expected);
+    CHECK(count_files(out, "render_", ".png") == expected);
     for (std::size_t i = 0; i < frames.size(); ++i) {
-        char name[48];  // room for any size_t: no -Wformat-truncation
-        std::snprintf(name, sizeof name, "/render_%05zu.png", i);
-        const clsph::Image im = clsph::read_png(out + name);
+        CAPTURE(i);
+        const std::string png = out + "/" + numbered("render", i, ".png");
+        REQUIRE_MESSAGE(fs::exists(png), png);
+        const clsph::Image im = clsph::read_png(png);
         CHECK(im.width == 320);
         CHECK(im.height == 180);
-        std::size_t drawn = 0;  // pixels other than the background
-        for (std::size_t p = 0; p < im.rgb.size() / 3; ++p) drawn += im.rgb[3 * p] != 246 || im.rgb[3 * p + 2] != 246;
-        CHECK(drawn > 500);
+        CHECK(test_image::drawn_pixels(im) > 500);
     }
     const bool has_ffmpeg = std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
     if (has_ffmpeg)
@@ -96,18 +136,23 @@ TEST_CASE("clsph run --render and clsph render: a PNG per surface, a note or a v
 
 TEST_CASE("clsph run --render --render-method splat: a PNG per frame, no surface; a bad method is refused") {
     const std::string out = work_dir("render_splat");
+    const std::string until = "0.01", every = "0.005";
+    const std::size_t expected = frames_implied(std::stod(until), std::stod(every));
     std::string log;
-    int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--render", "--render-method",
+    int code = run(args({{"run", scene}, tiny, {"--until", until, "--every", every, "--render", "--render-method",
                                                 "splat", "--set", "render.size=[320,180]", "--out", out}}),
                    log);
     INFO(log);
     REQUIRE(code == 0);
     const auto frames = clsph::read_pvd(out + "/dam_break.pvd");
-    REQUIRE(!frames.empty());
+    REQUIRE(frames.size() == expected);
+    check_frame_times(frames, std::stod(every));
+    CHECK(count_files(out, "render_", ".png") == expected);
     for (std::size_t i = 0; i < frames.size(); ++i) {
-        char name[48];
-        std::snprintf(name, sizeof name, "/render_%05zu.png", i);
-        const clsph::Image im = clsph::read_png(out + name);
+        CAPTURE(i);
+        const std::string png = out + "/" + numbered("render", i, ".png");
+        REQUIRE_MESSAGE(fs::exists(png), png);
+        const clsph::Image im = clsph::read_png(png);
         CHECK(im.width == 320);
         CHECK(im.height == 180);
     }

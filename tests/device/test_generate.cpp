@@ -11,6 +11,7 @@
 #include "scene/lattice.hpp"
 #include "scene/lattice_plan.hpp"
 #include "support/scenes.hpp"
+#include "support/skip.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -218,7 +219,7 @@ TEST_CASE("a run set up on the devices is bitwise the run set up on the host (on
         if (mdbc) s.boundary_method = BoundaryMethod::mdbc;
         for (std::size_t count : {std::size_t{1}, std::size_t{2}}) {
             if (count > test::devices().size()) {
-                MESSAGE("skipped on " << count << " devices: " << test::devices().size() << " available");
+                test_skip::skip("generate on " + std::to_string(count) + " devices: " + std::to_string(test::devices().size()) + " available");
                 continue;
             }
             INFO((mdbc ? "mDBC" : "DBC") << " on " << count << " devices");
@@ -248,7 +249,7 @@ TEST_SUITE("generate") {
 TEST_CASE("thinned downloads: every K-th particle by id and boxes, selected on the devices, equal the full download's") {
     for (std::size_t count : {std::size_t{1}, std::size_t{2}}) {
         if (count > test::devices().size()) {
-            MESSAGE("skipped on " << count << " devices: " << test::devices().size() << " available");
+            test_skip::skip("generate on " + std::to_string(count) + " devices: " + std::to_string(test::devices().size()) + " available");
             continue;
         }
         Options o;

@@ -4,6 +4,7 @@
 #include "clsph/simulation.hpp"
 #include "device/physics.hpp"
 #include "support/scenes.hpp"
+#include "support/skip.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -37,7 +38,7 @@ TEST_CASE("every interaction form, on one device and on three, follows the fine 
     for (std::size_t i = 0; i < ref.size(); ++i) ref_at[ref.id[i]] = i;
     REQUIRE(ref_at.size() == ref.size());
     const std::size_t several = std::min<std::size_t>(3, test::devices().size());
-    if (several < 2) MESSAGE("one device only: the several-device half of this test is skipped");
+    if (several < 2) test_skip::skip("interaction forms on three devices: one device only (POCL_DEVICES=\"basic pthread\")");
     for (const Interaction form : interaction_forms())
         for (const std::size_t count : {std::size_t{1}, several}) {
             if (count < 2 && form == Interaction::fine) continue;  // the reference itself

@@ -7,6 +7,7 @@
 #include "clsph/simulation.hpp"
 #include "clsph/testing.hpp"
 #include "support/scenes.hpp"
+#include "support/skip.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -137,7 +138,8 @@ TEST_CASE("the plan predicts mDBC's ghost nodes and the probes' points") {
 // calibration cuts by measured times.
 TEST_CASE("the plan predicts each of two devices' peak") {
     if (test::devices().size() < 2) {
-        MESSAGE("skipped: needs two devices (POCL_DEVICES=\"basic pthread\"), found " << test::devices().size());
+        test_skip::skip("the plan on two devices needs two devices (POCL_DEVICES=\"basic pthread\"), found " +
+                        std::to_string(test::devices().size()));
         return;
     }
     Options o;

@@ -4,6 +4,7 @@
 
 #include "scene/mesh.hpp"
 #include "scene/mesh_obj.hpp"
+#include "../support/skip.hpp"
 
 #include <algorithm>
 #include <array>
@@ -194,7 +195,7 @@ TEST_CASE("meshes we cannot use give errors naming the file") {
 TEST_CASE("the Stanford bunny of glmark2-data is a closed mesh") {
     const std::string bunny = "/usr/share/glmark2/models/bunny.obj";
     if (!std::filesystem::exists(bunny)) {
-        MESSAGE("skipped: " << bunny << " is absent (apt-get install glmark2-data)");
+        test_skip::skip(bunny + " is absent (apt-get install glmark2-data)");
         return;
     }
     const auto mesh = clsph::scene::read_closed_obj(bunny);
