@@ -8,6 +8,7 @@
 #include "scene/mesh_formats.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -244,6 +245,23 @@ TEST_CASE("STL and PLY give the same particles as OBJ: a cube of quads and an ic
     check_formats_agree(dir, "cube", cube_quads(), 0.1, {0, 0, 0});
     check_formats_agree(dir, "cube_off", cube_quads(), 0.1, {0.05, 0.013, -0.021});
     check_formats_agree(dir, "sphere", icosphere(2, 1.0), 0.1, {0.0123, -0.0311, 0.0277});
+    // ASCII STL in upper case with CRLF line ends, two solids; a PLY element with no properties
+    // and an enormous count (nothing in the body): the same cube.
+    const Mesh cube = cube_quads();
+    const Sampled reference = sample(dir.file("cube.obj"), 0.1, true);
+    std::string upper = stl_ascii(cube);
+    const std::size_t half = upper.find("  facet", upper.size() / 2);
+    upper.insert(half, "endsolid a\nsolid b\n");
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::string crlf;
+    for (char c : upper) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    scene_test::write_text(dir.file("upper.stl"), crlf);
+    CHECK(sample(dir.file("upper.stl"), 0.1, true).fluid == reference.fluid);
+    std::string empty_element = ply(cube, {});
+    empty_element.insert(empty_element.find("end_header"), "element nothing 9223372036854775807\n");
+    scene_test::write_text(dir.file("empty_element.ply"), empty_element);
+    CHECK(sample(dir.file("empty_element.ply"), 0.1, true).fluid == reference.fluid);
+
     // The welded STL cube: 8 vertices, 12 triangles, closed.
     const std::string path = dir.file("cube_bin.stl");
     const auto mesh = clsph::scene::read_closed_mesh(path);

@@ -270,6 +270,7 @@ TriangleMesh read_ply(const std::string& path) {
     Body body(path, b.substr(h.body), h.format);
     body.line_ = h.lines + 1;
     for (const auto& e : h.elements) {
+        if (e.properties.empty()) continue;  // nothing in the body, whatever its count
         for (std::uint64_t n = 0; n < e.count; ++n) {
             const std::string what = e.name + " " + std::to_string(n);
             Vec3 v{};
