@@ -4,6 +4,7 @@
 #include "support.hpp"
 
 #include "clsph/scene.hpp"
+#include "scene/ghost_nodes.hpp"
 #include "scene/mesh.hpp"
 #include "scene/mesh_formats.hpp"
 
@@ -511,4 +512,34 @@ TEST_CASE("scale, rotate (x, then y, then z, in degrees) and translate place a m
     CHECK(s.meshes[0].rotate == clsph::Vec3{0, 0, 90});
     CHECK(s.build_particles().size() == 11 * 11 * 11);
     CHECK(clsph::Scene::from_json_text(s.to_json(), "copy.json").meshes[0].rotate == clsph::Vec3{0, 0, 90});
+}
+
+TEST_CASE("mDBC ghost nodes of a mesh solid are the same from OBJ, STL and PLY") {
+    scene_test::TempDir dir;
+    const Mesh cube = cube_quads();
+    scene_test::write_text(dir.file("solid.obj"), obj_text(cube));
+    scene_test::write_text(dir.file("solid.stl"), stl_binary(cube));
+    PlyStyle be;
+    be.format = "binary_big_endian";
+    scene_test::write_text(dir.file("solid.ply"), ply(cube, be));
+    std::vector<std::vector<std::array<float, 3>>> offsets;
+    std::vector<std::size_t> counts;
+    for (const char* name : {"solid.obj", "solid.stl", "solid.ply"}) {
+        const std::string json = std::string(R"({"physics": {"dp": 0.1, "c0": 20}, "domain": {"min": [-1, -1, -1], "max": [3, 3, 3]},
+            "fluid": [{"min": [1.3, 0, 0], "max": [1.8, 1, 1]}],
+            "boundaries": {"method": "mdbc", "meshes": [{"path": ")") + dir.file(name) +
+                                 R"(", "layers": 2, "rotate": [0, 0, 90], "translate": [1, 0, 0]}]}})";
+        const clsph::Scene s = clsph::Scene::from_json_text(json, name);
+        const clsph::Particles p = s.build_particles();
+        counts.push_back(p.size());
+        offsets.push_back(clsph::scene::ghost_node_offsets(s, p));
+    }
+    CHECK(counts[0] == 6 * 11 * 11 + 11 * 11 * 11 - 7 * 7 * 7);
+    CHECK(counts[1] == counts[0]);
+    CHECK(counts[2] == counts[0]);
+    CHECK(offsets[1] == offsets[0]);
+    CHECK(offsets[2] == offsets[0]);
+    std::size_t mirrored = 0;
+    for (const auto& o : offsets[0]) mirrored += o != std::array<float, 3>{0, 0, 0};
+    CHECK(mirrored == 11 * 11 * 11 - 7 * 7 * 7);
 }
