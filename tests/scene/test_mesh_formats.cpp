@@ -543,3 +543,30 @@ TEST_CASE("mDBC ghost nodes of a mesh solid are the same from OBJ, STL and PLY")
     for (const auto& o : offsets[0]) mirrored += o != std::array<float, 3>{0, 0, 0};
     CHECK(mirrored == 11 * 11 * 11 - 7 * 7 * 7);
 }
+
+TEST_CASE("the Stanford bunny of glmark2-data as ASCII STL and double PLY fills as its OBJ does") {
+    const std::string bunny = "/usr/share/glmark2/models/bunny.obj";
+    if (!std::filesystem::exists(bunny)) {
+        MESSAGE("skipped: " << bunny << " is absent (apt-get install glmark2-data)");
+        return;
+    }
+    // Its coordinates are decimal text, not floats: ASCII STL at 17 digits and PLY of doubles keep
+    // them exactly (binary STL would round them to float). The STL's welded vertices are the OBJ's
+    // distinct positions (the OBJ repeats some along texture seams).
+    const clsph::scene::TriangleMesh obj = clsph::scene::read_obj(bunny);
+    Mesh m;
+    for (const auto& v : obj.vertices) m.v.push_back({v[0], v[1], v[2]});
+    for (const auto& t : obj.triangles) m.f.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+    scene_test::TempDir dir;
+    scene_test::write_text(dir.file("bunny.stl"), stl_ascii(m));
+    PlyStyle st;
+    st.format = "binary_little_endian";
+    st.doubles = true;
+    scene_test::write_text(dir.file("bunny.ply"), ply(m, st));
+    const Sampled reference = sample(bunny, 0.01, true, 3, {0.25, 0.25, 0.355}, {90, 0, 0}, 0.2);
+    MESSAGE("bunny at dp 0.01, stood up: " << reference.fluid.size() << " fluid points");
+    CHECK(reference.fluid.size() > 10000);
+    CHECK(sample(dir.file("bunny.stl"), 0.01, true, 3, {0.25, 0.25, 0.355}, {90, 0, 0}, 0.2).fluid == reference.fluid);
+    CHECK(sample(dir.file("bunny.ply"), 0.01, true, 3, {0.25, 0.25, 0.355}, {90, 0, 0}, 0.2).fluid == reference.fluid);
+    CHECK(clsph::scene::read_closed_mesh(dir.file("bunny.stl")).vertices.size() <= obj.vertices.size());
+}
