@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes what clsph reads from users with libFuzzer (Debian's clang and its compiler-rt), under
 # AddressSanitizer and UndefinedBehaviorSanitizer: the scene loader with --set overrides
-# (fuzz/fuzz_scene.cpp) and the OBJ reader and mesh sampler (fuzz/fuzz_obj.cpp).
+# (fuzz/fuzz_scene.cpp) and the OBJ, STL and PLY readers with the mesh sampler (fuzz/fuzz_obj.cpp,
+# fuzz_stl.cpp, fuzz_ply.cpp).
 #   scripts/fuzz.sh [SECONDS]     each target for SECONDS (default 60), from the seed corpus in
 #                                 fuzz/corpus/ (copied: the repository's seeds are not changed)
 # Exits non-zero on the first crash, leak, sanitizer report, timeout (10 s) or an input that
@@ -13,7 +14,7 @@ build=${CLSPH_FUZZ_BUILD_DIR:-build-fuzz}
 command -v clang++ >/dev/null || { echo "clsph: scripts/fuzz.sh needs clang (apt-get install clang)" >&2; exit 1; }
 cmake -S fuzz -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null
-for target in fuzz_scene fuzz_obj; do
+for target in fuzz_scene fuzz_obj fuzz_stl fuzz_ply; do
   seeds=${target#fuzz_}
   work="$build/corpus-$seeds"
   mkdir -p "$work"

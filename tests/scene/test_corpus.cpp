@@ -85,6 +85,7 @@ const std::vector<Case> corpus_cases = {
     {"fixed_dt_negative.json", "run.fixed_dt: must be a finite time >= 0 s"},
     {"mesh_is_directory.json", "boundaries.meshes[0].path: cannot read \"" },
     {"mesh_dev_zero.json", "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
+    {"mesh_unknown_format.json", "boundaries.meshes[0].path: cannot read \""},
     {"end_time_infinite_text.json", "run.end_time: expected a number, got a string"},
 };
 
@@ -94,6 +95,8 @@ const std::vector<Case> build_cases = {
     {"fluid_within_dp_of_walls.json", "fluid[0]: no fluid particle is left in the block [0, 0, 0] - [0.01, 0.4, 0.4]: each of its 441 lattice points is within dp of a boundary particle"},
     {"mesh_nan_vertex.json", "boundaries.meshes[0].path: "},
     {"mesh_huge_vertex.json", "boundaries.meshes[0].path: "},
+    {"mesh_nan_vertex_stl.json", "boundaries.meshes[0].path: "},
+    {"mesh_open_ply.json", "boundaries.meshes[0].path: "},
 };
 
 }  // namespace
@@ -121,6 +124,12 @@ TEST_CASE("scenes whose mistake shows when the particles are made name the key")
     CHECK(nan.find("nan_vertex.obj: line 8: vertex coordinate 'nan' is not a finite number") != std::string::npos);
     const std::string huge = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_huge_vertex.json")).build_particles(); });
     CHECK(huge.find("huge_vertex.obj: line 8: vertex coordinate '1e300' is not a finite number of at most 1e9") != std::string::npos);
+    const std::string stl = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_nan_vertex_stl.json")).build_particles(); });
+    CHECK(stl.find("nan_vertex.stl: triangle 3 (line 20): vertex 3 is not finite (y = nan)") != std::string::npos);
+    const std::string open = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_open_ply.json")).build_particles(); });
+    CHECK(open.find("open.ply: the mesh is not closed: 4 of 17 edges are not shared by exactly two triangles") != std::string::npos);
+    const std::string off = error_of([] { (void)clsph::Scene::from_file(corpus("mesh_unknown_format.json")); });
+    CHECK(off.find("cube.off\": not a mesh format clsph reads (the name must end in .obj, .stl or .ply)") != std::string::npos);
 }
 
 TEST_CASE("only regular files are read as scenes: a directory or a device is named as such") {

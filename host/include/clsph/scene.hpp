@@ -77,13 +77,15 @@ struct SolidBox {
     int layers = 3;
 };
 
-// A closed triangle mesh (OBJ): boundary layers inward from its surface, or filled with fluid.
+// A closed triangle mesh (OBJ, STL or PLY, by the file's extension): boundary layers inward from
+// its surface, or filled with fluid. Placed by scale, then rotate, then translate.
 struct MeshObject {
     std::string path;
     double scale = 1.0;
     Vec3 translate{0, 0, 0};
     bool fluid = false;  // true: the inside is fluid; false: `layers` of boundary particles
     int layers = 3;
+    Vec3 rotate{0, 0, 0};  // degrees about the x, then the y, then the z axis (fixed axes, right-handed)
 };
 
 // A gauge (docs/scenes.md, probes). height: the water depth on the vertical line at (x, y), the

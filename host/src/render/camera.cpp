@@ -1,6 +1,7 @@
 #include "clsph/render.hpp"
 
-#include "scene/mesh_obj.hpp"
+#include "scene/mesh.hpp"
+#include "scene/mesh_formats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,12 +29,9 @@ Bounds subject_of(const Scene& scene) {
     for (const auto& s : scene.solids) b.add(s.min, s.max);
     for (const auto& m : scene.meshes) {
         try {
-            const scene::TriangleMesh mesh = scene::read_obj(m.path);
-            for (const auto& p : mesh.vertices) {
-                Vec3 x{};
-                for (std::size_t k = 0; k < 3; ++k) x[k] = m.scale * p[k] + m.translate[k];
-                b.add(x, x);
-            }
+            scene::TriangleMesh mesh = scene::read_mesh(m.path);
+            scene::place_mesh(mesh, m);
+            for (const auto& x : mesh.vertices) b.add(x, x);
         } catch (const std::exception&) {
             b.add(scene.domain.min, scene.domain.max);  // unreadable here: frame the domain
         }

@@ -3,7 +3,7 @@
 #include "scene/lattice.hpp"
 #include "scene/mesh.hpp"
 #include "scene/mesh_grid.hpp"
-#include "scene/mesh_obj.hpp"
+#include "scene/mesh_formats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -89,9 +89,8 @@ void solid_mirrors(const SolidBox& b, double dp, const PointHash& boundary, Mirr
 void mesh_mirrors(const MeshObject& mo, double dp, Mirrors& out) {
     std::vector<Vec3> pts, unused;
     sample_mesh(mo, dp, pts, unused);
-    TriangleMesh mesh = read_closed_obj(mo.path);
-    for (auto& v : mesh.vertices)
-        for (int k = 0; k < 3; ++k) v[k] = v[k] * mo.scale + mo.translate[k];
+    TriangleMesh mesh = read_closed_mesh(mo.path);
+    place_mesh(mesh, mo);
     const double reach = (mo.layers + 1) * dp;
     const TriangleGrid grid(mesh, std::max(reach, dp));
     std::vector<std::uint64_t> keys;

@@ -93,7 +93,7 @@ int read_layers(Fields& f, int fallback) { return f.integer("layers", fallback);
 
 std::string resolve_mesh_path(const Json& v, const std::string& key, const std::string& base_dir) {
     const std::string raw = read_string(v, key);
-    if (raw.empty()) key_error(key, "expected the path of an OBJ file");
+    if (raw.empty()) key_error(key, "expected the path of a mesh file (.obj, .stl or .ply)");
     fs::path p(raw);
     if (p.is_relative() && !base_dir.empty()) p = fs::path(base_dir) / p;
     std::error_code ec;
@@ -103,11 +103,12 @@ std::string resolve_mesh_path(const Json& v, const std::string& key, const std::
 }
 
 MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir) {
-    Fields f(v, path, {"path", "scale", "translate", "fluid", "layers"});
+    Fields f(v, path, {"path", "scale", "translate", "rotate", "fluid", "layers"});
     MeshObject m;
     m.path = resolve_mesh_path(f.require("path"), f.path_of("path"), base_dir);
     m.scale = f.number("scale", m.scale);
     m.translate = f.vec3("translate", m.translate);
+    m.rotate = f.vec3("rotate", m.rotate);
     m.fluid = f.boolean("fluid", m.fluid);
     m.layers = read_layers(f, m.layers);
     return m;

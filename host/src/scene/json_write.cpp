@@ -72,6 +72,7 @@ Json boundaries(const Scene& s) {
         j["path"] = m.path;
         j["scale"] = m.scale;
         j["translate"] = vec(m.translate);
+        j["rotate"] = vec(m.rotate);
         j["fluid"] = m.fluid;
         j["layers"] = m.layers;
         meshes.push_back(j);

@@ -1,4 +1,4 @@
-// Sampling a closed triangle mesh onto the dp lattice.
+// Sampling a closed triangle mesh (any format of scene/mesh_formats.hpp) onto the dp lattice.
 //
 // Inside or outside: a lattice point is inside when the vertical ray above it crosses the surface
 // an odd number of times. The ray starts a tiny, irrationally proportioned offset away from the
@@ -12,7 +12,7 @@
 #include "clsph/error.hpp"
 #include "scene/lattice.hpp"
 #include "scene/mesh_grid.hpp"
-#include "scene/mesh_obj.hpp"
+#include "scene/mesh_formats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,18 +24,42 @@ namespace {
 constexpr double ray_dx = 3.14159265358979e-8, ray_dy = 2.71828182845905e-8, ray_dz = 1.41421356237310e-8;
 constexpr double on_surface = 1e-6;
 
-void place(TriangleMesh& mesh, const MeshObject& m) {
-    for (auto& v : mesh.vertices)
-        for (int k = 0; k < 3; ++k) v[k] = v[k] * m.scale + m.translate[k];
+// cos and sin of an angle in degrees, exact at multiples of 90.
+void cos_sin(double degrees, double& c, double& s) {
+    const double a = std::fmod(degrees, 360.0);
+    if (a == 0) return void((c = 1, s = 0));
+    if (a == 90 || a == -270) return void((c = 0, s = 1));
+    if (a == 180 || a == -180) return void((c = -1, s = 0));
+    if (a == 270 || a == -90) return void((c = 0, s = -1));
+    const double r = a * (std::acos(-1.0) / 180.0);
+    c = std::cos(r);
+    s = std::sin(r);
 }
 
 }  // namespace
 
+void place_mesh(TriangleMesh& mesh, const MeshObject& m) {
+    const bool rotated = m.rotate[0] != 0 || m.rotate[1] != 0 || m.rotate[2] != 0;
+    for (auto& v : mesh.vertices) {
+        for (int k = 0; k < 3; ++k) v[k] *= m.scale;
+        if (rotated)
+            for (int axis = 0; axis < 3; ++axis) {  // x, then y, then z
+                double c = 1, s = 0;
+                cos_sin(m.rotate[axis], c, s);
+                const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // the plane it turns: yz, zx, xy
+                const double a = v[i], b = v[j];
+                v[i] = c * a - s * b;
+                v[j] = s * a + c * b;
+            }
+        for (int k = 0; k < 3; ++k) v[k] += m.translate[k];
+    }
+}
+
 void sample_mesh(const MeshObject& m, double dp, std::vector<Vec3>& boundary, std::vector<Vec3>& fluid) {
     if (!(m.scale > 0) || !std::isfinite(m.scale)) throw SceneError(m.path + ": the mesh scale must be positive");
     if (!m.fluid && m.layers < 1) throw SceneError(m.path + ": a boundary mesh needs at least 1 layer");
-    TriangleMesh mesh = read_closed_obj(m.path);
-    place(mesh, m);
+    TriangleMesh mesh = read_closed_mesh(m.path);
+    place_mesh(mesh, m);
 
     Vec3 lo = mesh.vertices[0], hi = mesh.vertices[0];
     for (const auto& v : mesh.vertices)
@@ -46,7 +70,7 @@ void sample_mesh(const MeshObject& m, double dp, std::vector<Vec3>& boundary, st
     for (int k = 0; k < 3; ++k) {
         if (!std::isfinite(lo[k]) || !std::isfinite(hi[k]) || std::abs(lo[k]) > max_coordinate ||
             std::abs(hi[k]) > max_coordinate)
-            throw SceneError(m.path + ": after scale and translate the mesh reaches beyond 1e9 m");
+            throw SceneError(m.path + ": after scale, rotate and translate the mesh reaches beyond 1e9 m");
         points *= (hi[k] - lo[k]) / dp + 1.0;
     }
     if (!(points < 1e9))

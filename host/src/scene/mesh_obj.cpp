@@ -167,13 +167,17 @@ EdgeCount count_open_edges(const TriangleMesh& mesh) {
     return count;
 }
 
-TriangleMesh read_closed_obj(const std::string& path) {
-    TriangleMesh mesh = read_obj(path);
+void require_closed(const TriangleMesh& mesh, const std::string& path) {
     const EdgeCount e = count_open_edges(mesh);
     if (e.open > 0)
         throw SceneError(path + ": the mesh is not closed: " + std::to_string(e.open) + " of " + std::to_string(e.edges) +
                          " edges are not shared by exactly two triangles (inside and outside are only defined for "
                          "a closed, watertight surface)");
+}
+
+TriangleMesh read_closed_obj(const std::string& path) {
+    TriangleMesh mesh = read_obj(path);
+    require_closed(mesh, path);
     return mesh;
 }
 

@@ -15,11 +15,11 @@ struct TriangleMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
-// OBJ files are read only when they are regular files of at most this size.
+// Mesh files (OBJ, STL, PLY) are read only when they are regular files of at most this size.
 constexpr std::size_t max_mesh_bytes = std::size_t{512} << 20;
 // Vertex coordinates beyond this (m, before scale) are errors, as are NaN and infinity.
 constexpr double max_coordinate = 1e9;
-// Why `path` cannot be read as an OBJ file ("" when it can), with the install hint for a missing one.
+// Why `path` cannot be read as a mesh file ("" when it can), with the install hint for a missing one.
 std::string mesh_file_problem(const std::string& path);
 
 // Throws SceneError naming the file (and the line) when it cannot be read, has no faces, a
@@ -33,7 +33,10 @@ struct EdgeCount {
 };
 EdgeCount count_open_edges(const TriangleMesh& mesh);
 
-// read_obj, then SceneError naming the file unless the mesh is closed.
+// SceneError naming `path` unless the mesh is closed (count_open_edges finds no open edge).
+void require_closed(const TriangleMesh& mesh, const std::string& path);
+
+// read_obj, then require_closed.
 TriangleMesh read_closed_obj(const std::string& path);
 
 // Advice for a mesh file that is missing ("" when there is none): the meshes our scenes use come

@@ -4,7 +4,7 @@
 #include "clsph/error.hpp"
 #include "clsph/scene.hpp"
 #include "scene/lattice.hpp"
-#include "scene/mesh_obj.hpp"
+#include "scene/mesh_formats.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -290,11 +290,12 @@ void Scene::validate() const {
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         const auto& m = meshes[i];
         const std::string key = "boundaries.meshes[" + std::to_string(i) + "]";
-        require(!m.path.empty(), key + ".path", "expected the path of an OBJ file");
-        if (const std::string why = scene::mesh_file_problem(m.path); !why.empty())
+        require(!m.path.empty(), key + ".path", "expected the path of a mesh file (.obj, .stl or .ply)");
+        if (const std::string why = scene::mesh_path_problem(m.path); !why.empty())
             throw SceneError(key + ".path: cannot read \"" + m.path + "\": " + why);
         require(std::isfinite(m.scale) && m.scale > 0, key + ".scale", "must be positive");
         require_finite(m.translate, key + ".translate");
+        require_finite(m.rotate, key + ".rotate");
         require_layers(m.layers, 1, key + ".layers");
     }
 
