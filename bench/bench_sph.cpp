@@ -6,6 +6,7 @@
 #include "bench_util.hpp"
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
     std::string interaction = "auto";
     std::string balance = "dynamic", balance_log, trace;
     bool synchronous = false;
-    std::size_t max_steps = 0;
+    std::size_t max_steps = 0, slabs = 1;
     std::string scene_file;
     app.add_option("--scene", scene_file, "a scene file instead of the built-in SPHERIC-2 (its dp replaced by --dp; its probes sampled at the end)");
     app.add_option("--steps", max_steps, "time at most N steps (0: no limit; a billion particles: a few)");
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse"}));
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
+    app.add_option("--slabs", slabs, "open each device as N slabs (what several slabs cost, on one device)");
     app.add_flag("--synchronous", synchronous, "wait for every step on the host (the step ahead off)");
     app.add_option("--trace", trace, "CSV of every command's device start and end (ns) in the timed window, and a "
                                      "summary of where each device idles");
@@ -101,6 +103,11 @@ int main(int argc, char** argv) {
         opts.trace = !trace.empty();
         opts.synchronous = synchronous;  // default: steps ahead of the host on one device (issue 15)
         if (max_steps) opts.step_limit = max_steps;
+        if (slabs > 1) {
+            clsph::testing::Seams seams;
+            seams.slabs = slabs;
+            clsph::testing::set_seams(opts, std::move(seams));
+        }
         opts.on_setup = [t0](const std::string& line) {
             std::fprintf(stderr, "  set-up %.1f s: %s\n", std::chrono::duration<double>(clock::now() - t0).count(), line.c_str());
         };

@@ -5,6 +5,7 @@
 #include "clsph/memory_plan.hpp"
 
 #include "clsph/error.hpp"
+#include "clsph/testing.hpp"
 #include "device/memory_census.hpp"
 #include "device/memory_model.hpp"
 
@@ -119,7 +120,8 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
     // exceeds the largest allocation (the cuts move with the slab count, so plan again). Slabs
     // hold their neighbours' halo columns too, so on a narrow domain more slabs stop helping: a
     // device whose worst slab has not shrunk in three tries keeps its count (and does not fit).
-    std::vector<std::size_t> slabs(devices.size(), 1), stalled(devices.size(), 0);
+    const std::size_t at_least = options.seams && options.seams->slabs > 1 ? options.seams->slabs : 1;
+    std::vector<std::size_t> slabs(devices.size(), at_least), stalled(devices.size(), 0);
     std::vector<double> best(devices.size(), 0.0);
     for (;;) {
         std::vector<DeviceInfo> expanded;
@@ -138,7 +140,7 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
             }
             at += slabs[i];
             if (worst <= 1.0) continue;
-            if (slabs[i] == 1 || worst < best[i]) {
+            if (slabs[i] == at_least || worst < best[i]) {
                 best[i] = worst;
                 stalled[i] = 0;
             } else {

@@ -29,6 +29,9 @@ struct Seams {
     // Every device's CL_DEVICE_MAX_MEM_ALLOC_SIZE as if its driver reported this (0: as reported):
     // the memory plan splits devices into slabs by it and the memory tracker refuses larger buffers.
     std::uint64_t max_allocation = 0;
+    // Every device opened as at least this many slabs (0 or 1: as the memory plan decides): what
+    // several slabs cost, measured on one device (bench/bench_sph.cpp --slabs).
+    std::size_t slabs = 0;
     // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };
