@@ -7,6 +7,7 @@
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
+#include "device/motion_table.hpp"
 #include "device/particle_store.hpp"
 #include "device/sizing.hpp"
 
@@ -63,6 +64,15 @@ public:
     // The mDBC pass alone (forces() runs it).
     void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
     void kick_drift(ParticleStore& ps, double dt);
+    // Prescribed motion (kernels/motion.cl): the table uploaded once (every slab holds all of it,
+    // by boundary id); then after each drift the owned boundary particles of moving solids put at
+    // time + fraction dt (the synchronous path: the host's time before the step and its dt), or at
+    // the device's clock's time plus its dt (the step ahead). Nothing without a motion. In double
+    // where the device has cl_khr_fp64, else in float.
+    void set_motion(const MotionTable& table);
+    bool moves() const { return motion_segments_ > 0; }
+    void move_solids(ParticleStore& ps, double time, double dt, double fraction);
+    void move_solids_on_clock(ParticleStore& ps);
     // Symplectic (kernels/integrate.cl): the predictor to the half step (accel holds a_n), and,
     // after the half step's force pass wrote `half` (ps.scratch), the corrector to the full step.
     bool symplectic() const { return symplectic_; }
@@ -113,6 +123,11 @@ private:
     cl::Kernel predict_k_, correct_k_;
     cl::Kernel mdbc_k_;
     cl_rt::Buffer ghost_;
+    cl::Kernel motion_k_;
+    cl_rt::Buffer motion_table_, motion_rest_, motion_local_;
+    std::size_t motion_segments_ = 0, motion_ids_ = 0;
+    bool motion_float_ = false;
+    void launch_motion(ParticleStore& ps, bool on_clock, double time, double dt, double fraction);
     std::size_t ghost_count_ = 0;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;

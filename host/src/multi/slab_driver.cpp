@@ -87,6 +87,14 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             census.profile.cut_allowed = partition_.cut_allowed();
         }
     }
+    if (scene.has_motion()) {
+        // Prescribed motion: every device holds the whole table (a solid's particles may reach any
+        // slab), by boundary id, from the boundary particles at rest.
+        const Particles boundary = host ? Particles() : plan->particles([](const auto&, std::size_t) { return true; }, true);
+        const auto table = device::motion_table(scene, grid, host ? *host : boundary);
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d)) slabs_[d].physics->set_motion(table);
+    }
     // Across ranks the first cuts are the static ones (equal work); the measured times move them
     // from the first step on. (The calibration times devices side by side in one process.)
     if (D > 1 && bo.mode == balance::Mode::dynamic && !across_ranks()) {
@@ -172,9 +180,9 @@ StepOutcome SlabDriver::start() {
 }
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
-StepOutcome SlabDriver::step(double dt) {
+StepOutcome SlabDriver::step(double dt, double time) {
     apply_seams();                                 // tests: forced cuts
-    drift(dt);                                     // first kick and drift, every device at once
+    drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
         rebalance();                               // cuts from the last step's force times, while the devices drift
     cl_rt::EventSet kicked;
@@ -182,7 +190,7 @@ StepOutcome SlabDriver::step(double dt) {
     if (symplectic_) {                             // Symplectic: the predictor was the drift;
         removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
             forces(d);
-            correct(d, dt);                        // the corrector to the full step;
+            correct(d, dt, time);                  // the corrector to the full step;
         });
         removed += exchange_->run([&](std::size_t d) {  // the positions moved again: forces there
             forces(d);                             // (the next predictor's), and the reductions
@@ -206,19 +214,22 @@ void SlabDriver::apply_seams() {
     if (seams.cut_schedule && slabs_.size() > 1) partition_.set_cuts(slabs_, seams.cut_schedule(steps_, columns()));
 }
 
-void SlabDriver::drift(double dt) {
+void SlabDriver::drift(double dt, double time) {
     for_each_device([&](std::size_t d) {
+        auto& physics = *slabs_[d].physics;
         if (symplectic_)
-            slabs_[d].physics->predict(*slabs_[d].store, dt);
+            physics.predict(*slabs_[d].store, dt);
         else
-            slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
+            physics.kick_drift(*slabs_[d].store, dt);
+        physics.move_solids(*slabs_[d].store, time, dt, symplectic_ ? 0.5 : 1.0);  // moving solids: at the drift's time
         slabs_[d].device->flush();
     });
 }
 
-void SlabDriver::correct(std::size_t d, double dt) {
+void SlabDriver::correct(std::size_t d, double dt, double time) {
     Slab& s = slabs_[d];
     s.physics->correct(*s.store, s.store->scratch, dt);
+    s.physics->move_solids(*s.store, time, dt, 1.0);
     s.device->flush();
 }
 
