@@ -2,6 +2,7 @@
 // moves a solid's boundary particles as its closed form computed here in double has them (within
 // float), on every device, on 2 devices while the cuts sweep across the solid, bitwise the same on
 // 1 and 2 devices and in the step ahead; the wall's speed bounds the time step.
+#include "clsph/checkpoint.hpp"
 #include "clsph/simulation.hpp"
 #include "clsph/testing.hpp"
 #include "scene/motion.hpp"
@@ -199,6 +200,22 @@ TEST_CASE("the step ahead moves solids bitwise as the synchronous path does") {
     b.run_until(t);
     CHECK(a.time() == b.time());
     CHECK(differing(state_of(a), state_of(b)) == 0);
+}
+
+TEST_CASE("a run resumed from a checkpoint with the solid moved goes on bitwise as the straight run") {
+    auto rng = test::rng(51);
+    const Scene scene = paddle_tank(Type::rotation, rng);
+    Options o;
+    o.devices = test::device_spec(1);
+    Simulation straight(scene, o);
+    for (int i = 0; i < 20; ++i) straight.step();
+    Simulation first(scene, o);
+    for (int i = 0; i < 8; ++i) first.step();  // mid-segment: the paddle has turned
+    const Checkpoint c = first.checkpoint();
+    Simulation resumed(scene, c, o);
+    for (int i = 0; i < 12; ++i) resumed.step();
+    CHECK(straight.time() == resumed.time());
+    CHECK(differing(state_of(straight), state_of(resumed)) == 0);
 }
 
 TEST_CASE("the wall's speed bounds the time step") {

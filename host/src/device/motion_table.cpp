@@ -1,5 +1,6 @@
 #include "device/motion_table.hpp"
 
+#include "scene/lattice_plan.hpp"
 #include "scene/motion.hpp"
 #include "shared.h"
 
@@ -8,10 +9,14 @@
 
 namespace clsph::device {
 
-MotionTable motion_table(const Scene& scene, const Grid& grid, const Particles& boundary) {
+MotionTable motion_table(const Scene& scene, const Grid& grid) {
     MotionTable t;
     const auto solids = scene::moving_solids(scene);
     if (solids.empty()) return t;
+    // Boundaries come first in id order, so a plan's boundary particles alone have the scene's ids.
+    const Particles boundary = scene::LatticePlan::supports(scene)
+                                   ? scene::LatticePlan::make(scene).particles([](const auto&, std::size_t) { return true; }, true)
+                                   : scene.build_particles();
     constexpr double two_pi = 6.28318530717958647692;
     for (std::size_t s = 0; s < solids.size(); ++s) {
         // The motion measured from the reference point: axis points shifted, and the start poses

@@ -27,7 +27,8 @@ struct MotionTable {
     bool empty() const { return segments.empty(); }
 };
 
-// The table of a scene whose boundary particles (at rest: the scene's own) are `boundary`.
-MotionTable motion_table(const Scene& scene, const Grid& grid, const Particles& boundary);
+// The table of a scene, from its own boundary particles at rest (ids are stable over a run, so
+// it serves a run resumed from a checkpoint, whose solids have moved, as well).
+MotionTable motion_table(const Scene& scene, const Grid& grid);
 
 }  // namespace clsph::device

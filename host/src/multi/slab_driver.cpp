@@ -89,9 +89,8 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     }
     if (scene.has_motion()) {
         // Prescribed motion: every device holds the whole table (a solid's particles may reach any
-        // slab), by boundary id, from the boundary particles at rest.
-        const Particles boundary = host ? Particles() : plan->particles([](const auto&, std::size_t) { return true; }, true);
-        const auto table = device::motion_table(scene, grid, host ? *host : boundary);
+        // slab), by boundary id, from the scene's boundary particles at rest.
+        const auto table = device::motion_table(scene, grid);
         for (std::size_t d = 0; d < D; ++d)
             if (here(d)) slabs_[d].physics->set_motion(table);
     }
