@@ -346,10 +346,11 @@ void Scene::validate() const {
     }
     // mDBC's ghost nodes and normals are fixed per boundary particle: they do not yet turn with a
     // moving solid (issue 32).
-    if (boundary_method == BoundaryMethod::mdbc)
-        for (const auto& solid : scene::moving_solids(*this))
-            throw SceneError(solid.key + ".motion: a moving solid needs \"boundaries.method\": \"dbc\" (mDBC's ghost nodes "
-                             "do not move with solids yet)");
+    if (boundary_method == BoundaryMethod::mdbc) {
+        const auto moving = scene::moving_solids(*this);
+        require(moving.empty(), moving.empty() ? std::string() : moving.front().key + ".motion",
+                "a moving solid needs \"boundaries.method\": \"dbc\" (mDBC's ghost nodes do not move with solids yet)");
+    }
 
     std::set<std::string> names;
     for (std::size_t i = 0; i < probes.size(); ++i) {
