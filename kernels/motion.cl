@@ -31,6 +31,28 @@ inline real3 mul_pose(__global const real* r, const real3 u) {
                      r[6] * u.x + r[7] * u.y + r[8] * u.z + r[11]);
 }
 
+// The last segment of `solid` with start <= t, or -1.
+inline int segment_at(const uint segments, __global const real* table, const real solid, const real t) {
+    int found = -1;
+    for (uint k = 0; k < segments; ++k) {
+        __global const real* s = table + k * SEG;
+        if (s[3] == solid && s[1] <= t) found = (int)k;
+    }
+    return found;
+}
+
+// r turned by theta about the unit vector n (Rodrigues).
+inline real3 turn(const real3 n, const real theta, const real3 r) {
+    const real cs = cos(theta), sn = sin(theta);
+    return r * cs + cross(n, r) * sn + n * (dot(n, r) * ((real)1 - cs));
+}
+
+// A rotating segment's angle after tau, and its rate.
+inline real angle_of(__global const real* s, const real tau) {
+    const real w = s[22], phase = s[23], mag = s[24];
+    return (int)s[0] == 2 ? mag * (sin(w * tau + phase) - sin(phase)) : mag * tau;
+}
+
 __kernel void move_solids(const uint first, const uint last, const GridParams g, __global const real* step_clock,
                           const uint use_clock, const real host_time, const real host_dt, const real fraction,
                           const uint segments, __global const real* table, __global const float4* rest,
@@ -50,11 +72,7 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
     const real t = use_clock ? step_clock[0] + fraction * step_clock[1] : host_time + fraction * host_dt;
     const real3 u0 = l.xyz;
     real3 u = u0, v = (real3)(0.0);
-    int found = -1;
-    for (uint k = 0; k < segments; ++k) {
-        __global const real* s = table + k * SEG;
-        if (s[3] == l.w && s[1] <= t) found = (int)k;
-    }
+    const int found = segment_at(segments, table, l.w, t);
     if (found >= 0) {
         __global const real* s = table + (uint)found * SEG;
         const int type = (int)s[0];
@@ -71,11 +89,8 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
             if (moving) v = vec * (w * cos(w * tau + phase));
         } else {  // rotations: about the unit axis vec through c
             const real3 c = (real3)(s[19], s[20], s[21]);
-            const real theta = type == 2 ? mag * (sin(w * tau + phase) - sin(phase)) : mag * tau;
             const real rate = type == 2 ? mag * w * cos(w * tau + phase) : mag;
-            const real3 r = y - c;
-            const real cs = cos(theta), sn = sin(theta);
-            u = c + r * cs + cross(vec, r) * sn + vec * (dot(vec, r) * (1.0 - cs));
+            u = c + turn(vec, angle_of(s, tau), y - c);
             if (moving) v = cross(vec * rate, u - c);
         }
     }
@@ -98,4 +113,36 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
     float4 vr = velrho[i];
     vr.xyz = convert_float3(v);
     velrho[i] = vr;
+}
+
+// mDBC: the ghost-node offsets of the owned boundary particles of moving solids turned as their
+// solid has turned by time t (the same t as move_solids' last put them): ghost[id] = R(t)
+// ghost_rest[id]. Run before each mDBC pass on the particles it evaluates (those owned after the
+// exchange), so the offsets are the formula's wherever a particle has moved to.
+__kernel void turn_ghost_nodes(const uint first, const uint last, __global const real* step_clock, const uint use_clock,
+                               const real host_time, const real host_dt, const real fraction, const uint segments,
+                               __global const real* table, __global const real4* relative, const uint rest_count,
+                               __global const float4* ghost_rest, __global float4* ghost, __global const uint* ids,
+                               __global const uint* halt) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last || *halt != 0u) return;
+    const uint word = ids[i];
+    if ((word >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID) return;
+    const uint id = word & CLSPH_ID_MASK;
+    if (id >= rest_count) return;
+    const real solid = relative[id].w;
+    if (solid < 0) return;
+    const real t = use_clock ? step_clock[0] + fraction * step_clock[1] : host_time + fraction * host_dt;
+    const float4 g0 = ghost_rest[id];
+    real3 g = convert_real3(g0.xyz);
+    const int found = segment_at(segments, table, solid, t);
+    if (found >= 0) {
+        __global const real* s = table + (uint)found * SEG;
+        g = (real3)(s[4] * g.x + s[5] * g.y + s[6] * g.z, s[7] * g.x + s[8] * g.y + s[9] * g.z,
+                    s[10] * g.x + s[11] * g.y + s[12] * g.z);
+        if ((int)s[0] >= 2) g = turn((real3)(s[16], s[17], s[18]), angle_of(s, fmin(t, s[2]) - s[1]), g);
+    }
+    float4 out = g0;
+    out.xyz = convert_float3(g);
+    ghost[id] = out;
 }

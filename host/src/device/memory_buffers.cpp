@@ -137,6 +137,9 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     if (x.device.fp64) add("step clock", sz::kClockDoubles * sizeof(double), false);
     // physics.cpp set_ghost_nodes(): every slab holds every boundary particle's, by id.
     if (c.mdbc) add("mDBC ghost nodes", (c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1) * f4);
+    // With moving solids also the offsets at rest, which turn_ghost_nodes turns.
+    if (c.mdbc && c.motion_segments)
+        add("mDBC ghost nodes at rest", (c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1) * f4);
     // physics.cpp set_motion(): every slab holds the whole table, and per boundary id the rest
     // position and the position from the solid's reference (double where the device has fp64).
     if (c.motion_segments) {

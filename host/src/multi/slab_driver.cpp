@@ -6,6 +6,7 @@
 #include "device/thin_download.hpp"
 #include "multi/calibration.hpp"
 #include "scene/ghost_nodes.hpp"
+#include "scene/motion.hpp"
 
 #include <algorithm>
 
@@ -64,12 +65,23 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
+    if (scene.has_motion()) {
+        // Prescribed motion: every device holds the whole table (a solid's particles may reach any
+        // slab), by boundary id, from the scene's boundary particles at rest.
+        const auto table = device::motion_table(scene, grid);
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d)) slabs_[d].physics->set_motion(table);
+    }
     if (scene.boundary_method == BoundaryMethod::mdbc) {
-        // mDBC: every device holds each boundary particle's ghost-node offset, by id (they are
-        // static: boundary particles never move). Boundaries come first in id order, so a plan's
-        // boundary particles alone have the scene's ids.
-        const Particles boundary = host ? Particles() : plan->particles([](const auto&, std::size_t) { return true; }, true);
-        const Particles& p = host ? *host : boundary;
+        // mDBC: every device holds each boundary particle's ghost-node offset at rest, by id (those
+        // of moving solids turn with them: Physics::set_ghost_nodes). Boundaries come first in id
+        // order, so a plan's boundary particles alone have the scene's ids. With moving solids, from
+        // the scene's particles at rest (a checkpoint's have moved).
+        const bool at_rest = scene.has_motion() && host;
+        const Particles boundary = host && !at_rest ? Particles()
+                                   : plan ? plan->particles([](const auto&, std::size_t) { return true; }, true)
+                                          : scene.build_particles();
+        const Particles& p = host && !at_rest ? *host : boundary;
         const auto offsets = scene::ghost_node_offsets(scene, p);
         std::vector<std::array<float, 3>> by_id;
         for (std::size_t i = 0; i < p.size(); ++i) {
@@ -82,17 +94,15 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             if (here(d)) slabs_[d].physics->set_ghost_nodes(by_id);
         // The next step's forces read boundary densities each owner computed: the owner must hold
         // the fluid around each of its particles' ghost nodes (Partition::restrict_cuts).
-        if (D > 1) {
+        if (D > 1 && scene.has_motion()) {
+            // Moving solids: their particles and ghost nodes wherever the motion takes them.
+            const auto swept = scene::swept_ghost_nodes(scene, p, offsets);
+            partition_.restrict_cuts(swept.first, swept.second, scene.physics.support());
+            census.profile.cut_allowed = partition_.cut_allowed();
+        } else if (D > 1) {
             partition_.restrict_cuts(p, offsets, scene.physics.support());
             census.profile.cut_allowed = partition_.cut_allowed();
         }
-    }
-    if (scene.has_motion()) {
-        // Prescribed motion: every device holds the whole table (a solid's particles may reach any
-        // slab), by boundary id, from the scene's boundary particles at rest.
-        const auto table = device::motion_table(scene, grid);
-        for (std::size_t d = 0; d < D; ++d)
-            if (here(d)) slabs_[d].physics->set_motion(table);
     }
     // Across ranks the first cuts are the static ones (equal work); the measured times move them
     // from the first step on. (The calibration times devices side by side in one process.)

@@ -170,4 +170,29 @@ std::vector<std::int32_t> moving_solid_of(const Scene& scene, const Particles& p
     return out;
 }
 
+std::pair<Particles, std::vector<std::array<float, 3>>> swept_ghost_nodes(const Scene& scene, const Particles& p,
+                                                                          const std::vector<std::array<float, 3>>& offsets) {
+    std::pair<Particles, std::vector<std::array<float, 3>>> out;
+    auto& [q, g] = out;
+    const auto solids = moving_solids(scene);
+    const auto owner = moving_solid_of(scene, p);
+    constexpr int kSamples = 16;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.type[i] != ParticleType::boundary) continue;
+        q.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+        g.push_back(offsets[i]);
+        if (owner[i] < 0) continue;
+        const Motion& m = solids[static_cast<std::size_t>(owner[i])].motion;
+        for (const auto& s : m.segments)
+            for (int k = 1; k <= kSamples; ++k) {
+                const RigidPose pose = motion_pose(m, s.start + (s.end - s.start) * k / kSamples);
+                const Vec3 o{offsets[i][0], offsets[i][1], offsets[i][2]};
+                const Vec3 turned = RigidPose{pose.R, {0, 0, 0}}.apply(o);
+                q.push_back(p.id[i], p.type[i], pose.apply(p.position[i]), p.velocity[i], p.density[i], p.pressure[i]);
+                g.push_back({static_cast<float>(turned[0]), static_cast<float>(turned[1]), static_cast<float>(turned[2])});
+            }
+    }
+    return out;
+}
+
 }  // namespace clsph::scene

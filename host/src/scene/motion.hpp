@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clsph::scene {
@@ -43,5 +44,11 @@ std::vector<MovingSolid> moving_solids(const Scene& scene);
 // Per particle of p: the index (into moving_solids) of the moving solid it belongs to, or -1
 // (fluid, static boundaries). Recognised by lattice point, as ghost nodes are.
 std::vector<std::int32_t> moving_solid_of(const Scene& scene, const Particles& p);
+
+// mDBC with several devices (multi::Partition::restrict_cuts): the boundary particles of p with
+// their ghost-node offsets, and besides them every moving particle at 16 times over each segment
+// of its motion, its offset turned with it: where the solid's ghost nodes will be.
+std::pair<Particles, std::vector<std::array<float, 3>>> swept_ghost_nodes(const Scene& scene, const Particles& p,
+                                                                          const std::vector<std::array<float, 3>>& offsets);
 
 }  // namespace clsph::scene

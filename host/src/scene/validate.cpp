@@ -5,7 +5,6 @@
 #include "clsph/scene.hpp"
 #include "scene/lattice.hpp"
 #include "scene/mesh_obj.hpp"
-#include "scene/motion.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -343,13 +342,6 @@ void Scene::validate() const {
         require_layers(m.layers, 1, key + ".layers");
         require(!(m.fluid && m.motion.moves()), key + ".motion", "a fluid mesh cannot move (only solids have a motion)");
         check_motion(m.motion, key);
-    }
-    // mDBC's ghost nodes and normals are fixed per boundary particle: they do not yet turn with a
-    // moving solid (issue 32).
-    if (boundary_method == BoundaryMethod::mdbc) {
-        const auto moving = scene::moving_solids(*this);
-        require(moving.empty(), moving.empty() ? std::string() : moving.front().key + ".motion",
-                "a moving solid needs \"boundaries.method\": \"dbc\" (mDBC's ghost nodes do not move with solids yet)");
     }
 
     std::set<std::string> names;
