@@ -7,7 +7,8 @@
 //   [cell pass (reorders accel too), forces at (x_{n+1}, v*, rho*) -> a_{n+1}, drho_{n+1}]
 //   kick:        v_{n+1} = v* + (a_{n+1} - a_n) dt/2 = v_n + (a_n + a_{n+1}) dt/2
 //                rho_{n+1} = rho* + (drho_{n+1} - drho_n) dt/2, then checks and the reductions for dt
-// Boundary particles do not move; their density may not fall below rho0 (as DualSPHysics does for
+// Boundary particles do not move here (those of moving solids are put by kernels/motion.cl after
+// the drift); their density may not fall below rho0 (as DualSPHysics does for
 // DBC), otherwise walls would suck fluid in.
 #include "shared.h"
 
@@ -46,7 +47,7 @@ __kernel void kick_drift(const uint first, const uint last, __global const float
 }
 
 // Second kick (old accelerations in `accel`, new ones in `accel_new`), then per work-group: max
-// |v|^2 and max |a|^2 of fluid, kinetic energy, fluid count into partials[group]; the lowest index
+// |v|^2 of fluid and boundary particles (a moving solid's: kernels/motion.cl), max |a|^2 of fluid, kinetic energy, fluid count into partials[group]; the lowest index
 // of a particle with a non-finite value or a density outside [rho_min, rho_max] into *bad (the
 // host, or step_clock.cl's end_step, sets it to 0xffffffff first). While *halt is set the step
 // changes nothing: the old accelerations are copied over the new ones, so that swapping the two
@@ -85,6 +86,8 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void kick(
             acc.y = fmax(acc.y, dot(a.xyz, a.xyz));
             acc.z += 0.5f * sp.mass * v2;
             acc.w += 1.0f;
+        } else {
+            acc.x = fmax(acc.x, dot(vr.xyz, vr.xyz));  // a moving wall's speed bounds the step too (0 at rest)
         }
     }
     red[lid] = acc;

@@ -131,6 +131,27 @@ TEST_CASE("the plan predicts mDBC's ghost nodes and the probes' points") {
     }
 }
 
+TEST_CASE("the plan predicts a moving solid's motion table, buffer by buffer") {
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        Scene s = tiny_dam_break();
+        MotionSegment m;
+        m.type = MotionSegment::Type::sine;
+        m.start = 0;
+        m.end = 1;
+        m.amplitude = {0.01, 0, 0};
+        m.period = 0.5;
+        s.walls[0].motion.segments = {m, m};
+        s.walls[0].motion.segments[1].start = 1;
+        s.walls[0].motion.segments[1].end = 2;
+        Options o;
+        o.synchronous = true;
+        check_prediction(s, spec_of(d), o, 3, false, true);
+        o.synchronous = false;
+        check_prediction(s, spec_of(d), o);
+    }
+}
+
 // The split is the balancer's first cuts over the census (equal work: boundary particles weigh
 // 0.4); a store given more than its initial capacity grows, at the upload in one allocation, at the
 // exchanges keeping its particles (old and new arrays at the peak): small_dam's device 0 does with

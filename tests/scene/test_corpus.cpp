@@ -74,6 +74,10 @@ const std::vector<Case> corpus_cases = {
     {"mesh_missing.json", "boundaries.meshes[0].path: cannot read \""},
     {"mesh_negative_scale.json", "boundaries.meshes[0].scale: must be positive"},
     {"run_probe_every_zero.json", "run.probe_every: must be >= 1"},
+    {"motion_overlapping_segments.json", "boundaries.boxes[0].motion.segments[1].start: overlaps the segment before it"},
+    {"motion_axis_zero.json", "boundaries.boxes[0].motion.segments[0].axis: must not be the zero vector"},
+    {"motion_period_zero.json", "boundaries.boxes[0].motion.segments[0].period: must be a finite time > 0 s"},
+    {"motion_end_before_start.json", "boundaries.boxes[0].motion.segments[0].end: must be after start"},
     // Accepted silently before (issue 14): nonsense the scene check now names.
     {"coefsound_negative.json", "physics.coefsound: must be a positive number"},
     {"dp_larger_than_block.json", "fluid[0]: holds no fluid particle: no point of the dp lattice (dp = 0.02 m) lies in the block"},

@@ -50,11 +50,11 @@ const std::vector<Mistake> both_paths = {
     {"a negative fixed dt", [](clsph::Scene& s) { s.run.fixed_dt = -1e-4; }, "run.fixed_dt: must be a finite time >= 0 s"},
     {"walls with no faces", [](clsph::Scene& s) { s.walls[0].faces = 0; }, "boundaries.walls[0].faces: expected at least one face"},
     {"walls with 0 layers", [](clsph::Scene& s) { s.walls[0].layers = 0; }, "boundaries.walls[0].layers: must be 1 to 16 (got 0)"},
-    {"a solid with 17 layers", [](clsph::Scene& s) { s.solids.push_back({{0.6, 0, 0}, {0.8, 0.2, 0.2}, 17}); }, "boundaries.boxes[0].layers: must be 0 to 16 (got 17)"},
+    {"a solid with 17 layers", [](clsph::Scene& s) { s.solids.push_back({{0.6, 0, 0}, {0.8, 0.2, 0.2}, 17, {}}); }, "boundaries.boxes[0].layers: must be 0 to 16 (got 17)"},
     {"walls on a periodic axis", [](clsph::Scene& s) { s.domain.periodic[1] = true; }, "boundaries.walls[0].faces: face y- is on the periodic axis y"},
     {"walls outside the domain", [](clsph::Scene& s) { s.walls[0].max[0] = 1.09; }, "boundaries.walls[0]: its particles span"},
     {"a support below dp", [](clsph::Scene& s) { s.physics.hdp = 0.4; }, "physics.hdp: the kernel support"},
-    {"fluid inside a solid", [](clsph::Scene& s) { s.solids.push_back({{0.1, 0.1, 0.1}, {0.3, 0.3, 0.3}, 3}); }, "fluid[0]: overlaps the solid boundaries.boxes[0]"},
+    {"fluid inside a solid", [](clsph::Scene& s) { s.solids.push_back({{0.1, 0.1, 0.1}, {0.3, 0.3, 0.3}, 3, {}}); }, "fluid[0]: overlaps the solid boundaries.boxes[0]"},
     {"a block between lattice points", [](clsph::Scene& s) { s.fluids[0].min[0] = 0.105, s.fluids[0].max[0] = 0.115; }, "fluid[0]: holds no fluid particle"},
     {"a block smaller than dp", [](clsph::Scene& s) { s.fluids[0].min = {0.101, 0.101, 0.101}, s.fluids[0].max = {0.119, 0.119, 0.119}; }, "fluid[0]: holds no fluid particle"},
     {"overlapping blocks", [](clsph::Scene& s) { s.fluids.push_back({{0.3, 0, 0}, {0.5, 0.2, 0.2}, {0, 0, 0}, {}}); }, "fluid[1]: overlaps fluid[0]"},
@@ -62,8 +62,8 @@ const std::vector<Mistake> both_paths = {
     {"a probe outside", [](clsph::Scene& s) { s.probes[0].point = {5, 0, 0}; }, "probes[0].point: is outside the domain"},
     {"a sensor facing nowhere", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{0, 0, 0}; }, "probes[0].normal: must not be the zero vector"},
     {"a sensor of no size", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{1, 0, 0}, s.probes[0].size = 0; }, "probes[0].size: must be the sensor's diameter"},
-    {"a missing mesh", [](clsph::Scene& s) { s.meshes.push_back({"/no/such/mesh.obj", 1.0, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/no/such/mesh.obj\": No such file or directory"},
-    {"a mesh that is a device", [](clsph::Scene& s) { s.meshes.push_back({"/dev/zero", 1.0, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
+    {"a missing mesh", [](clsph::Scene& s) { s.meshes.push_back({"/no/such/mesh.obj", 1.0, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/no/such/mesh.obj\": No such file or directory"},
+    {"a mesh that is a device", [](clsph::Scene& s) { s.meshes.push_back({"/dev/zero", 1.0, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
 };
 
 // NaN has no JSON spelling (it is written as null): only the C++ path can carry it, and it must be
@@ -84,7 +84,7 @@ const std::vector<Mistake> cpp_only = {
     {"NaN fixed dt", [](clsph::Scene& s) { s.run.fixed_dt = nan; }, "run.fixed_dt: must be a finite time >= 0 s"},
     // JSON spells only the two names (an unknown one: tests/scene/corpus/render_method_bad.json).
     {"a render method out of range", [](clsph::Scene& s) { s.render.method = static_cast<clsph::RenderMethod>(7); }, "render.method: must be \"surface\" or \"splat\""},
-    {"a mesh path that is /dev/null", [](clsph::Scene& s) { s.meshes.push_back({"/dev/null", nan, {0, 0, 0}, false, 3}); }, "boundaries.meshes[0].path: cannot read \"/dev/null\": it is not a regular file"},
+    {"a mesh path that is /dev/null", [](clsph::Scene& s) { s.meshes.push_back({"/dev/null", nan, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/dev/null\": it is not a regular file"},
 };
 
 }  // namespace

@@ -95,6 +95,16 @@ TEST_CASE("hydrostatic: a closed tank, water 0.5 m deep") {
     CHECK(pressure_probes == 3);
 }
 
+TEST_CASE("piston: a flume whose x- end is a moving box, no particle twice") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/piston.json"));
+    REQUIRE(s.solids.size() == 1);
+    CHECK(s.has_motion());
+    const Counts c = build_and_check(s);
+    // x: 0.04 ... 0.99 (dp from the piston and the far wall), z: dp ... 0.2, y: 13 lattice lines.
+    CHECK(c.fluid == 96 * 20 * 13);
+    CHECK(c.coincident == 0);
+}
+
 TEST_CASE("spheric2: the benchmark case, built at a coarser dp through an override") {
     const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/spheric2.json"));
     CHECK(s.physics.dp == 0.006);

@@ -60,6 +60,31 @@ struct FluidBlock {
     std::optional<double> surface;
 };
 
+// Prescribed motion of a solid (docs/scenes.md, motion): segments in time, in increasing order and
+// not overlapping. Each segment moves the solid from where the segments before it left it; before
+// the first, between segments and after the last the solid rests. Over a segment [start, end),
+// with tau = t - start and w = 2 pi / period:
+//   linear          x += velocity tau
+//   sine            x += amplitude (sin(w tau + phase) - sin(phase))      (a piston)
+//   sine_rotation   about the axis through axis_point along axis, by the angle
+//                   angle (sin(w tau + phase) - sin(phase))  (radians; a flap, a sloshing tank)
+//   rotation        about the axis, by the angle angular_velocity tau  (rad/s, right-handed)
+struct MotionSegment {
+    enum class Type { linear, sine, sine_rotation, rotation } type = Type::linear;
+    double start = 0, end = 0;        // s
+    Vec3 velocity{0, 0, 0};           // linear (m/s)
+    Vec3 amplitude{0, 0, 0};          // sine (m)
+    double period = 1, phase = 0;     // sine, sine_rotation (s, rad)
+    Vec3 axis_point{0, 0, 0};         // sine_rotation, rotation (m)
+    Vec3 axis{0, 0, 1};               // the rotation axis' direction (any non-zero length)
+    double angle = 0;                 // sine_rotation's amplitude (rad)
+    double angular_velocity = 0;      // rotation (rad/s)
+};
+struct Motion {
+    std::vector<MotionSegment> segments;  // empty: the solid does not move
+    bool moves() const { return !segments.empty(); }
+};
+
 // Faces of a box: bit k*2 is the min face of axis k, bit k*2+1 the max face (x-, x+, y-, y+, z-, z+).
 enum BoxFaces : unsigned { x_min = 1, x_max = 2, y_min = 4, y_max = 8, z_min = 16, z_max = 32, all_faces = 63 };
 
@@ -69,12 +94,14 @@ struct BoxWalls {
     Vec3 min{0, 0, 0}, max{1, 1, 1};
     unsigned faces = all_faces;
     int layers = 3;
+    Motion motion;
 };
 
 // A solid box of boundary particles: layers inward from its faces (0 layers: filled).
 struct SolidBox {
     Vec3 min{0, 0, 0}, max{0, 0, 0};
     int layers = 3;
+    Motion motion;
 };
 
 // A closed triangle mesh (OBJ, STL or PLY, by the file's extension): boundary layers inward from
@@ -86,6 +113,7 @@ struct MeshObject {
     bool fluid = false;  // true: the inside is fluid; false: `layers` of boundary particles
     int layers = 3;
     Vec3 rotate{0, 0, 0};  // degrees about the x, then the y, then the z axis (fixed axes, right-handed)
+    Motion motion;         // a boundary mesh only
 };
 
 // A gauge (docs/scenes.md, probes). height: the water depth on the vertical line at (x, y), the
@@ -153,6 +181,8 @@ struct Scene {
         std::uint64_t total() const { return fluid + boundary; }
     };
     Count count_particles() const;
+    // Whether any solid has a prescribed motion.
+    bool has_motion() const;
 };
 
 }  // namespace clsph

@@ -2,9 +2,11 @@
 // engine's memory tracker gives it, sized by device/sizing.hpp as the allocation sizes it, and a
 // store growth's moment where the old arrays sit beside the new ones.
 #include "device/memory_model.hpp"
+#include "device/motion_table.hpp"
 
 #include "device/sizing.hpp"
 #include "probes/gauges.hpp"
+#include "scene/motion.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -86,6 +88,7 @@ struct Context {
     std::size_t slabs, particles, rows, probe_points;
     bool mdbc, ahead, any_boundary;
     std::uint32_t max_boundary_id;
+    std::size_t motion_segments;  // of every moving solid (0: none)
 };
 
 // Every buffer of slab d with stores of `cap` particles, an edge sort of `edge` and a cell sort of
@@ -134,6 +137,18 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     if (x.device.fp64) add("step clock", sz::kClockDoubles * sizeof(double), false);
     // physics.cpp set_ghost_nodes(): every slab holds every boundary particle's, by id.
     if (c.mdbc) add("mDBC ghost nodes", (c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1) * f4);
+    // With moving solids also the offsets at rest, which turn_ghost_nodes turns.
+    if (c.mdbc && c.motion_segments)
+        add("mDBC ghost nodes at rest", (c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1) * f4);
+    // physics.cpp set_motion(): every slab holds the whole table, and per boundary id the rest
+    // position and the position from the solid's reference (double where the device has fp64).
+    if (c.motion_segments) {
+        const std::size_t real = x.device.fp64 ? sizeof(double) : sizeof(float);
+        const std::size_t ids = c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1;
+        add("motion segments", c.motion_segments * device::MotionTable::kSegmentDoubles * real, false);
+        add("motion rest positions", ids * f4);
+        add("motion local positions", ids * 4 * real);
+    }
     // exchange.cpp: the boxes particles leave and arrive in.
     for (const char* a : {"positions", "velocity+density", "acceleration+drho/dt"}) {
         add(std::string("exchange outbox: ") + a, s.outbox * f4, D > 1);
@@ -229,7 +244,12 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                     scene.boundary_method == BoundaryMethod::mdbc,
                     ahead,
                     census.any_boundary,
-                    census.max_boundary_id};
+                    census.max_boundary_id,
+                    [&] {
+                        std::size_t n = 0;
+                        for (const auto& m : scene::moving_solids(scene)) n += m.motion.segments.size();
+                        return n;
+                    }()};
     for (std::size_t d = 0; d < D; ++d) {
         const Share& s = shares[d];
         DeviceMemoryPlan x = buffers_of(c, s, d, s.capacity, s.edge, s.active);

@@ -7,6 +7,7 @@
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/grid.hpp"
+#include "device/motion_table.hpp"
 #include "device/particle_store.hpp"
 #include "device/sizing.hpp"
 
@@ -57,12 +58,23 @@ public:
     // ps.accel. With mDBC, then the owned boundary particles' densities from their ghost nodes
     // (kernels/mdbc.cl), in place: the next step's forces use them.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
-    // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp).
+    // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp), at
+    // rest; with a motion (set_motion first) the offsets of moving solids turn with them before
+    // each mDBC pass (kernels/motion.cl, turn_ghost_nodes).
     bool mdbc() const { return mdbc_; }
     void set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id);
     // The mDBC pass alone (forces() runs it).
     void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
     void kick_drift(ParticleStore& ps, double dt);
+    // Prescribed motion (kernels/motion.cl): the table uploaded once (every slab holds all of it,
+    // by boundary id); then after each drift the owned boundary particles of moving solids put at
+    // time + fraction dt (the synchronous path: the host's time before the step and its dt), or at
+    // the device's clock's time plus its dt (the step ahead). Nothing without a motion. In double
+    // where the device has cl_khr_fp64, else in float.
+    void set_motion(const MotionTable& table);
+    bool moves() const { return motion_segments_ > 0; }
+    void move_solids(ParticleStore& ps, double time, double dt, double fraction);
+    void move_solids_on_clock(ParticleStore& ps);
     // Symplectic (kernels/integrate.cl): the predictor to the half step (accel holds a_n), and,
     // after the half step's force pass wrote `half` (ps.scratch), the corrector to the full step.
     bool symplectic() const { return symplectic_; }
@@ -113,6 +125,15 @@ private:
     cl::Kernel predict_k_, correct_k_;
     cl::Kernel mdbc_k_;
     cl_rt::Buffer ghost_;
+    cl::Kernel motion_k_, turn_k_;
+    cl_rt::Buffer motion_table_, motion_rest_, motion_local_, ghost_rest_;
+    std::size_t motion_segments_ = 0, motion_ids_ = 0;
+    bool motion_float_ = false;
+    // The time the last move_solids put the solids at (mDBC turns the ghost nodes to it).
+    struct MotionTime { bool on_clock = false; double time = 0, dt = 0, fraction = 1; } motion_time_;
+    void launch_motion(ParticleStore& ps, bool on_clock, double time, double dt, double fraction);
+    void set_motion_time_args(cl::Kernel& k, cl_uint first_arg) const;  // the clock and the times
+    void turn_ghost_nodes(ParticleStore& ps);
     std::size_t ghost_count_ = 0;
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;

@@ -5,6 +5,7 @@
 #include "device/sizing.hpp"
 #include "multi/calibration.hpp"
 #include "scene/ghost_nodes.hpp"
+#include "scene/motion.hpp"
 
 #include <algorithm>
 
@@ -63,12 +64,23 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
+    if (scene.has_motion()) {
+        // Prescribed motion: every device holds the whole table (a solid's particles may reach any
+        // slab), by boundary id, from the scene's boundary particles at rest.
+        const auto table = device::motion_table(scene, grid);
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d)) slabs_[d].physics->set_motion(table);
+    }
     if (scene.boundary_method == BoundaryMethod::mdbc) {
-        // mDBC: every device holds each boundary particle's ghost-node offset, by id (they are
-        // static: boundary particles never move). Boundaries come first in id order, so a plan's
-        // boundary particles alone have the scene's ids.
-        const Particles boundary = host ? Particles() : plan->particles([](const auto&, std::size_t) { return true; }, true);
-        const Particles& p = host ? *host : boundary;
+        // mDBC: every device holds each boundary particle's ghost-node offset at rest, by id (those
+        // of moving solids turn with them: Physics::set_ghost_nodes). Boundaries come first in id
+        // order, so a plan's boundary particles alone have the scene's ids. With moving solids, from
+        // the scene's particles at rest (a checkpoint's have moved).
+        const bool at_rest = scene.has_motion() && host;
+        const Particles boundary = host && !at_rest ? Particles()
+                                   : plan ? plan->particles([](const auto&, std::size_t) { return true; }, true)
+                                          : scene.build_particles();
+        const Particles& p = host && !at_rest ? *host : boundary;
         const auto offsets = scene::ghost_node_offsets(scene, p);
         std::vector<std::array<float, 3>> by_id;
         for (std::size_t i = 0; i < p.size(); ++i) {
@@ -81,7 +93,12 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             if (here(d)) slabs_[d].physics->set_ghost_nodes(by_id);
         // The next step's forces read boundary densities each owner computed: the owner must hold
         // the fluid around each of its particles' ghost nodes (Partition::restrict_cuts).
-        if (D > 1) {
+        if (D > 1 && scene.has_motion()) {
+            // Moving solids: their particles and ghost nodes wherever the motion takes them.
+            const auto swept = scene::swept_ghost_nodes(scene, p, offsets);
+            partition_.restrict_cuts(swept.first, swept.second, scene.physics.support());
+            census.profile.cut_allowed = partition_.cut_allowed();
+        } else if (D > 1) {
             partition_.restrict_cuts(p, offsets, scene.physics.support());
             census.profile.cut_allowed = partition_.cut_allowed();
         }
@@ -171,9 +188,9 @@ StepOutcome SlabDriver::start() {
 }
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
-StepOutcome SlabDriver::step(double dt) {
+StepOutcome SlabDriver::step(double dt, double time) {
     apply_seams();                                 // tests: forced cuts
-    drift(dt);                                     // first kick and drift, every device at once
+    drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
         rebalance();                               // cuts from the last step's force times, while the devices drift
     cl_rt::EventSet kicked;
@@ -181,7 +198,7 @@ StepOutcome SlabDriver::step(double dt) {
     if (symplectic_) {                             // Symplectic: the predictor was the drift;
         removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
             forces(d);
-            correct(d, dt);                        // the corrector to the full step;
+            correct(d, dt, time);                  // the corrector to the full step;
         });
         removed += exchange_->run([&](std::size_t d) {  // the positions moved again: forces there
             forces(d);                             // (the next predictor's), and the reductions
@@ -205,19 +222,22 @@ void SlabDriver::apply_seams() {
     if (seams.cut_schedule && slabs_.size() > 1) partition_.set_cuts(slabs_, seams.cut_schedule(steps_, columns()));
 }
 
-void SlabDriver::drift(double dt) {
+void SlabDriver::drift(double dt, double time) {
     for_each_device([&](std::size_t d) {
+        auto& physics = *slabs_[d].physics;
         if (symplectic_)
-            slabs_[d].physics->predict(*slabs_[d].store, dt);
+            physics.predict(*slabs_[d].store, dt);
         else
-            slabs_[d].physics->kick_drift(*slabs_[d].store, dt);
+            physics.kick_drift(*slabs_[d].store, dt);
+        physics.move_solids(*slabs_[d].store, time, dt, symplectic_ ? 0.5 : 1.0);  // moving solids: at the drift's time
         slabs_[d].device->flush();
     });
 }
 
-void SlabDriver::correct(std::size_t d, double dt) {
+void SlabDriver::correct(std::size_t d, double dt, double time) {
     Slab& s = slabs_[d];
     s.physics->correct(*s.store, s.store->scratch, dt);
+    s.physics->move_solids(*s.store, time, dt, 1.0);
     s.device->flush();
 }
 

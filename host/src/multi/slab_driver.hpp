@@ -65,7 +65,8 @@ public:
                const scene::LatticePlan& plan, const DriverOptions& options);
 
     StepOutcome start();  // the first exchange, forces and a zero kick
-    StepOutcome step(double dt);
+    // `time`: the simulated time before the step (where moving solids are put: kernels/motion.cl).
+    StepOutcome step(double dt, double time = 0.0);
     Particles download();  // owned particles of every device
     // Slab d's owned particles whose id is divisible by stride, in the box if any (device/thin_download.hpp).
     Particles download_every(std::size_t d, std::uint32_t stride, const std::optional<std::array<double, 6>>& box);
@@ -117,11 +118,11 @@ private:
                 const scene::LatticePlan* plan);
     void for_each_device(const PerDevice& work);
     void apply_seams();
-    void drift(double dt);
+    void drift(double dt, double time);
     void rebalance();
     void forces(std::size_t d);
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
-    void correct(std::size_t d, double dt);
+    void correct(std::size_t d, double dt, double time);
     StepOutcome reductions(cl_rt::EventSet& kicked);
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     void read_force_times();

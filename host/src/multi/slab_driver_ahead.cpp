@@ -13,6 +13,7 @@ void SlabDriver::enqueue_step_ahead(std::size_t slot, double* record, cl_rt::Eve
     apply_seams();  // tests: a simulated failure
     Slab& s = slabs_[0];
     s.physics->kick_drift_on_clock(*s.store);
+    s.physics->move_solids_on_clock(*s.store);  // moving solids: at the clock's time after the step
     tables_forces_kick_ahead(slot, record, done);
     ++steps_;
 }

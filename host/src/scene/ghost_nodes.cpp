@@ -13,16 +13,6 @@
 namespace clsph::scene {
 namespace {
 
-// A lattice point (multiples of dp, 21 bits per axis) as one sortable key.
-std::uint64_t lattice_key(const Vec3& x, double dp) {
-    std::uint64_t k = 0;
-    for (int a = 0; a < 3; ++a) {
-        const auto i = static_cast<std::int64_t>(std::llround(x[a] / dp));
-        k = (k << 21) | (static_cast<std::uint64_t>(i + (1 << 20)) & 0x1fffffu);
-    }
-    return k;
-}
-
 // Boundary points of the scene with their ghost-node offsets, sorted by lattice key (first wins).
 class Mirrors {
 public:

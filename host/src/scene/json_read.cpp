@@ -88,6 +88,60 @@ unsigned read_faces(const Json& v, const std::string& path) {
     return faces;
 }
 
+// A solid's prescribed motion: {"segments": [...]}, each segment the keys of its type only
+// (clsph/scene.hpp, MotionSegment). Values are checked by Scene::validate.
+Motion read_motion(const Json& v, const std::string& path) {
+    Fields f(v, path, {"segments"});
+    Motion m;
+    using Type = MotionSegment::Type;
+    for_each_element(f.require("segments"), f.path_of("segments"), [&](const Json& e, const std::string& at) {
+        Fields g(e, at, {"type", "start", "end", "velocity", "amplitude", "period", "phase", "axis_point", "axis", "angle",
+                         "angular_velocity"});
+        MotionSegment s;
+        if (!g.find("type")) key_error(g.path_of("type"), "missing required key (\"linear\", \"sine\", \"sine_rotation\" or \"rotation\")");
+        s.type = g.choice("type", s.type,
+                          {{"linear", Type::linear}, {"sine", Type::sine}, {"sine_rotation", Type::sine_rotation},
+                           {"rotation", Type::rotation}});
+        const std::string type = read_string(*g.find("type"), g.path_of("type"));
+        s.start = read_number(g.require("start"), g.path_of("start"));
+        s.end = read_number(g.require("end"), g.path_of("end"));
+        // The keys of this type; another type's key is a mistake, not something to ignore.
+        std::vector<std::string> own;
+        switch (s.type) {
+        case Type::linear: own = {"velocity"}; break;
+        case Type::sine: own = {"amplitude", "period", "phase"}; break;
+        case Type::sine_rotation: own = {"axis_point", "axis", "angle", "period", "phase"}; break;
+        case Type::rotation: own = {"axis_point", "axis", "angular_velocity"}; break;
+        }
+        for (const char* k : {"velocity", "amplitude", "period", "phase", "axis_point", "axis", "angle", "angular_velocity"})
+            if (g.find(k) && std::find(own.begin(), own.end(), k) == own.end())
+                key_error(g.path_of(k), "is not a key of a \"" + type + "\" segment (its keys: start, end, " + [&] {
+                    std::string list;
+                    for (const auto& o : own) list += (list.empty() ? "" : ", ") + o;
+                    return list;
+                }() + ")");
+        if (s.type == Type::linear) s.velocity = read_vec3(g.require("velocity"), g.path_of("velocity"));
+        if (s.type == Type::sine) s.amplitude = read_vec3(g.require("amplitude"), g.path_of("amplitude"));
+        if (s.type == Type::sine || s.type == Type::sine_rotation) {
+            s.period = read_number(g.require("period"), g.path_of("period"));
+            s.phase = g.number("phase", s.phase);
+        }
+        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+            s.axis_point = read_vec3(g.require("axis_point"), g.path_of("axis_point"));
+            s.axis = read_vec3(g.require("axis"), g.path_of("axis"));
+        }
+        if (s.type == Type::sine_rotation) s.angle = read_number(g.require("angle"), g.path_of("angle"));
+        if (s.type == Type::rotation) s.angular_velocity = read_number(g.require("angular_velocity"), g.path_of("angular_velocity"));
+        m.segments.push_back(s);
+    });
+    return m;
+}
+
+Motion read_motion_of(Fields& f) {
+    const Json* m = f.find("motion");
+    return m && !m->is_null() ? read_motion(*m, f.path_of("motion")) : Motion{};
+}
+
 // The range is checked by Scene::validate, for scenes from files and from code alike.
 int read_layers(Fields& f, int fallback) { return f.integer("layers", fallback); }
 
@@ -103,7 +157,7 @@ std::string resolve_mesh_path(const Json& v, const std::string& key, const std::
 }
 
 MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir) {
-    Fields f(v, path, {"path", "scale", "translate", "rotate", "fluid", "layers"});
+    Fields f(v, path, {"path", "scale", "translate", "rotate", "fluid", "layers", "motion"});
     MeshObject m;
     m.path = resolve_mesh_path(f.require("path"), f.path_of("path"), base_dir);
     m.scale = f.number("scale", m.scale);
@@ -111,6 +165,7 @@ MeshObject read_mesh(const Json& v, const std::string& path, const std::string& 
     m.rotate = f.vec3("rotate", m.rotate);
     m.fluid = f.boolean("fluid", m.fluid);
     m.layers = read_layers(f, m.layers);
+    m.motion = read_motion_of(f);
     return m;
 }
 
@@ -119,21 +174,23 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
     s.boundary_method = f.choice("method", s.boundary_method, {{"dbc", BoundaryMethod::dbc}, {"mdbc", BoundaryMethod::mdbc}});
     if (const Json* walls = f.find("walls"))
         for_each_element(*walls, "boundaries.walls", [&](const Json& e, const std::string& path) {
-            Fields w(e, path, {"min", "max", "faces", "layers"});
+            Fields w(e, path, {"min", "max", "faces", "layers", "motion"});
             BoxWalls b;
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             if (const Json* faces = w.find("faces")) b.faces = read_faces(*faces, w.path_of("faces"));
             b.layers = read_layers(w, b.layers);
+            b.motion = read_motion_of(w);
             s.walls.push_back(b);
         });
     if (const Json* boxes = f.find("boxes"))
         for_each_element(*boxes, "boundaries.boxes", [&](const Json& e, const std::string& path) {
-            Fields w(e, path, {"min", "max", "layers"});
+            Fields w(e, path, {"min", "max", "layers", "motion"});
             SolidBox b;
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             b.layers = read_layers(w, b.layers);
+            b.motion = read_motion_of(w);
             s.solids.push_back(b);
         });
     if (const Json* meshes = f.find("meshes"))

@@ -28,6 +28,33 @@ Json faces_value(unsigned faces) {
     return list;
 }
 
+// A solid's motion, written only where it has one (a scene without motion writes what it did before).
+void put_motion(Json& j, const Motion& m) {
+    if (!m.moves()) return;
+    Json segments = Json::array();
+    for (const auto& s : m.segments) {
+        Json g;
+        using Type = MotionSegment::Type;
+        g["type"] = s.type == Type::linear ? "linear" : s.type == Type::sine ? "sine" : s.type == Type::sine_rotation ? "sine_rotation" : "rotation";
+        g["start"] = s.start;
+        g["end"] = s.end;
+        if (s.type == Type::linear) g["velocity"] = vec(s.velocity);
+        if (s.type == Type::sine) g["amplitude"] = vec(s.amplitude);
+        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+            g["axis_point"] = vec(s.axis_point);
+            g["axis"] = vec(s.axis);
+        }
+        if (s.type == Type::sine_rotation) g["angle"] = s.angle;
+        if (s.type == Type::rotation) g["angular_velocity"] = s.angular_velocity;
+        if (s.type == Type::sine || s.type == Type::sine_rotation) {
+            g["period"] = s.period;
+            g["phase"] = s.phase;
+        }
+        segments.push_back(g);
+    }
+    j["motion"] = Json{{"segments", segments}};
+}
+
 Json physics(const PhysicsParams& p) {
     Json j;
     j["dp"] = p.dp;
@@ -58,6 +85,7 @@ Json boundaries(const Scene& s) {
         j["max"] = vec(w.max);
         j["faces"] = faces_value(w.faces);
         j["layers"] = w.layers;
+        put_motion(j, w.motion);
         walls.push_back(j);
     }
     for (const auto& b : s.solids) {
@@ -65,6 +93,7 @@ Json boundaries(const Scene& s) {
         j["min"] = vec(b.min);
         j["max"] = vec(b.max);
         j["layers"] = b.layers;
+        put_motion(j, b.motion);
         boxes.push_back(j);
     }
     for (const auto& m : s.meshes) {
@@ -75,6 +104,7 @@ Json boundaries(const Scene& s) {
         j["rotate"] = vec(m.rotate);
         j["fluid"] = m.fluid;
         j["layers"] = m.layers;
+        put_motion(j, m.motion);
         meshes.push_back(j);
     }
     Json j;

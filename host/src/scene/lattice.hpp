@@ -14,6 +14,18 @@ namespace clsph::scene {
 std::int64_t lattice_first(double min, double dp);
 std::int64_t lattice_last(double max, double dp);
 
+// A lattice point (multiples of dp, 21 bits per axis) as one sortable key: how a boundary particle
+// is recognised as one of a solid's (ghost nodes, motion), in the scene's particles, a frame read
+// back or a checkpoint alike.
+inline std::uint64_t lattice_key(const Vec3& x, double dp) {
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) {
+        const auto i = static_cast<std::int64_t>(std::llround(x[a] / dp));
+        k = (k << 21) | (static_cast<std::uint64_t>(i + (1 << 20)) & 0x1fffffu);
+    }
+    return k;
+}
+
 // The scene's particles sampled point by point on the host (boundaries in the scene's order, then
 // fluid): meshes need it; for other scenes Scene::build_particles() takes the lattice plan, and
 // the tests compare the two.

@@ -163,7 +163,49 @@ void particle_extent(const BoxWalls& w, double dp, Vec3& lo, Vec3& hi) {
     }
 }
 
+// A solid's motion (clsph/scene.hpp, MotionSegment): finite numbers, segments of positive length
+// in increasing order without overlap, a positive period, a non-zero axis.
+void check_motion(const Motion& m, const std::string& solid) {
+    using Type = MotionSegment::Type;
+    for (std::size_t i = 0; i < m.segments.size(); ++i) {
+        const auto& s = m.segments[i];
+        const std::string key = solid + ".motion.segments[" + std::to_string(i) + "]";
+        require(std::isfinite(s.start), key + ".start", "must be a finite time (s), got " + num(s.start));
+        require(std::isfinite(s.end), key + ".end", "must be a finite time (s), got " + num(s.end));
+        require(s.end > s.start, key + ".end", "must be after start (" + num(s.end) + " <= " + num(s.start) + ")");
+        if (i > 0)
+            require(s.start >= m.segments[i - 1].end, key + ".start",
+                    "overlaps the segment before it, which ends at " + num(m.segments[i - 1].end) +
+                        " s (segments are in increasing time, without overlap)");
+        if (s.type == Type::linear) require_finite(s.velocity, key + ".velocity");
+        if (s.type == Type::sine) require_finite(s.amplitude, key + ".amplitude");
+        if (s.type == Type::sine || s.type == Type::sine_rotation) {
+            require(std::isfinite(s.period) && s.period > 0, key + ".period", "must be a finite time > 0 s, got " + num(s.period));
+            require(std::isfinite(s.phase), key + ".phase", "must be a finite angle (rad), got " + num(s.phase));
+        }
+        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+            require_finite(s.axis_point, key + ".axis_point");
+            require_finite(s.axis, key + ".axis");
+            require(s.axis[0] != 0 || s.axis[1] != 0 || s.axis[2] != 0, key + ".axis", "must not be the zero vector");
+        }
+        if (s.type == Type::sine_rotation) require(std::isfinite(s.angle), key + ".angle", "must be a finite angle (rad), got " + num(s.angle));
+        if (s.type == Type::rotation)
+            require(std::isfinite(s.angular_velocity), key + ".angular_velocity",
+                    "must be a finite angular velocity (rad/s), got " + num(s.angular_velocity));
+    }
+}
+
 }  // namespace
+
+bool Scene::has_motion() const {
+    for (const auto& w : walls)
+        if (w.motion.moves()) return true;
+    for (const auto& b : solids)
+        if (b.motion.moves()) return true;
+    for (const auto& m : meshes)
+        if (m.motion.moves()) return true;
+    return false;
+}
 
 void Scene::validate() const {
     const auto& p = physics;
@@ -253,6 +295,7 @@ void Scene::validate() const {
         require_layers(w.layers, 1, key + ".layers");
         for (int k = 0; k < 3; ++k) require(w.max[k] > w.min[k], key + ".max", "must be greater than min");
         require(w.faces != 0 && w.faces <= all_faces, key + ".faces", "expected at least one face");
+        check_motion(w.motion, key);
         for (int bit = 0; bit < 6; ++bit)
             require(!((w.faces >> bit) & 1u) || !domain.periodic[static_cast<std::size_t>(bit / 2)], key + ".faces",
                     std::string("face ") + face_name(bit) + " is on the periodic axis " + "xyz"[bit / 2] +
@@ -270,6 +313,7 @@ void Scene::validate() const {
         require_finite(b.max, key + ".max");
         require_layers(b.layers, 0, key + ".layers");
         for (int k = 0; k < 3; ++k) require(b.max[k] > b.min[k], key + ".max", "must be greater than min");
+        check_motion(b.motion, key);
         require(inside(b.min) && inside(b.max), key,
                 "box " + vec(b.min) + " - " + vec(b.max) + " is not inside the domain " + vec(domain.min) + " - " +
                     vec(domain.max) + " (particles outside the domain are removed)");
@@ -297,6 +341,8 @@ void Scene::validate() const {
         require_finite(m.translate, key + ".translate");
         require_finite(m.rotate, key + ".rotate");
         require_layers(m.layers, 1, key + ".layers");
+        require(!(m.fluid && m.motion.moves()), key + ".motion", "a fluid mesh cannot move (only solids have a motion)");
+        check_motion(m.motion, key);
     }
 
     std::set<std::string> names;

@@ -10,7 +10,7 @@ void StepRunner::step() {
     const double dt = state_.dt_next;
     multi::StepOutcome k;
     try {
-        k = cl_rt::guarded("taking a step", "", [&] { return driver_.step(dt); });
+        k = cl_rt::guarded("taking a step", "", [&] { return driver_.step(dt, state_.info.time); });
     } catch (const DeviceError& e) {
         failures_.device_failed(e, dt);
     }
