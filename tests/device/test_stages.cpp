@@ -250,6 +250,11 @@ TEST_CASE("kick: second half-kick, its reductions and the lowest bad index") {
                             if (std::isfinite(a2)) a2max = std::max(a2max, a2);
                             ke += 0.5 * sp.mass * v2;
                             ++fluid;
+                        } else {
+                            // A boundary particle's speed bounds the step too (a moving solid's;
+                            // kernels/integrate.cl kick): its velocity, which the kick leaves alone.
+                            const double v2 = double(want[0]) * want[0] + double(want[1]) * want[1] + double(want[2]) * want[2];
+                            if (std::isfinite(v2)) v2max = std::max(v2max, v2);
                         }
                     }
                     for (int c = 0; c < 4; ++c) {
