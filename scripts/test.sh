@@ -36,4 +36,10 @@ if [ -n "$site" ]; then
   PYTHONPATH="$site" /usr/bin/python3 -m clsph --version
 fi
 if [ "$browser" = 1 ]; then bash scripts/browser_check.sh "$build"; fi
+# A fuzzing smoke run of each libFuzzer target (scene, OBJ, STL, PLY readers), 30 s each from the
+# seed corpus (CLSPH_FUZZ_SECONDS to change it, 0 to skip); the ASan + UBSan run of the scene, io and
+# cli suites with CLSPH_SANITIZE=1 (about 5 minutes more on two cores).
+fuzz_seconds=${CLSPH_FUZZ_SECONDS:-30}
+if [ "$fuzz_seconds" != 0 ]; then bash scripts/fuzz.sh "$fuzz_seconds"; fi
+if [ "${CLSPH_SANITIZE:-${CLSPH_CI_SANITIZE:-0}}" = 1 ]; then bash scripts/sanitize.sh; fi
 echo "clsph: all tests passed"
