@@ -87,6 +87,11 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
 }
 
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
+    const RenderTarget t = render(camera, layers);
+    return read_depth_image(device_, *t.depth, *t.colour, t.width, t.height);
+}
+
+RenderTarget Renderer::render(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
     const CameraBasis b = camera_basis(camera);
     KernelCamera kc{};
     kc.eye = float4_of(b.eye);
@@ -101,8 +106,14 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
     const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
     const cl_uint2 size{{camera.width, camera.height}};
     const std::size_t pixels = std::size_t{camera.width} * camera.height;
-    auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
-    auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
+    if (depth_.bytes() != pixels * sizeof(cl_uint)) {
+        depth_ = {};
+        colour_ = {};
+        depth_ = device_.alloc(pixels * sizeof(cl_uint), "render depth");
+        colour_ = device_.alloc(pixels * sizeof(cl_uint), "render colour");
+    }
+    auto& depth = depth_;
+    auto& colour = colour_;
     device_.fill(depth, cl_uint(0xffffffffu), pixels);
     device_.fill(colour, cl_uint(0), pixels);
     for (const auto& u : layers) {
@@ -124,7 +135,7 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
                         *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }
-    return read_depth_image(device_, depth, colour, camera.width, camera.height);
+    return {&depth_, &colour_, camera.width, camera.height};
 }
 
 cl_float4 float4_of(const std::array<double, 3>& v, double w) {

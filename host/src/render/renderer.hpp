@@ -59,6 +59,13 @@ struct UploadedLayer {
     DeviceLayer layer() const { return {&positions, &normals, &triangles, count, colour}; }
 };
 
+// A depth and a colour image on a device (the Renderer's, kept from frame to frame).
+struct RenderTarget {
+    const cl_rt::Buffer* depth = nullptr;
+    const cl_rt::Buffer* colour = nullptr;
+    std::uint32_t width = 0, height = 0;
+};
+
 class Renderer {
 public:
     explicit Renderer(cl_rt::Device& device);
@@ -67,11 +74,14 @@ public:
     DepthImage draw(const CameraView& camera, const std::vector<Layer>& layers);
     // The same for triangles already on the device, drawn as they are (nothing uploaded).
     DepthImage draw(const CameraView& camera, const std::vector<DeviceLayer>& layers);
+    // The same, the image left on the device (valid until the next render or draw).
+    RenderTarget render(const CameraView& camera, const std::vector<DeviceLayer>& layers);
 
 private:
     cl_rt::Device& device_;
     cl::Kernel depth_k_, shade_k_, shade_field_k_;
     std::size_t wg_;
+    cl_rt::Buffer depth_, colour_;  // kept from frame to frame, reallocated when the size changes
 };
 
 // The nearest of several depth images, pixel by pixel, over `background` (the walls' lines are

@@ -153,19 +153,16 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
 }
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera, const ImageStyle& style) {
+                   const CameraView& camera, const ImageStyle& style, FrameCache& cache) {
     auto& slabs = driver.slabs();
     const std::uint32_t mode = field_mode(style.surface);
     const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
-    const TriangleMesh solids = box_mesh(scene.solids);
-    std::vector<std::uint32_t> all_solids(solids.triangles.size());
-    for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
     std::vector<DepthImage> images;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
-        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !all_solids.empty();
+        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !scene.solids.empty();
         if (!water && !boxes) continue;
-        Renderer r(*slabs[d].device);
+        Renderer& r = cache.renderer(*slabs[d].device);
         std::vector<DeviceLayer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
         cl_rt::Buffer values;  // the field at the vertices, from this device's particles
@@ -178,11 +175,7 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                 layers.back().values = &values;
             }
         }
-        UploadedLayer boxes_up;  // drawn in the same image as the water (one read-back)
-        if (boxes) {
-            boxes_up = r.upload({&solids, all_solids, kSolid});
-            layers.push_back(boxes_up.layer());
-        }
+        if (boxes) layers.push_back(cache.boxes(*slabs[d].device, scene.solids).layer());  // in the same image: one read-back
         images.push_back(r.draw(camera, layers));
     }
     Image out = finish(std::move(images), scene, camera);

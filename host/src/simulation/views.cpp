@@ -46,10 +46,10 @@ Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it; each draws its own part.
             const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, {});
-            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style);
+            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style, m.frames);
         });
     return cl_rt::guarded("rendering an image by splats", "",
-                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style); });
+                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style, m.frames); });
 }
 
 }  // namespace clsph
