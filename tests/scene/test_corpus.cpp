@@ -23,6 +23,7 @@ const std::vector<Case> corpus_cases = {
     {"render_up_zero.json", "render.camera.up: must not be the zero vector"},
     {"render_eye_at_target.json", "render.camera.eye: is at the target"},
     {"render_size_zero.json", "render.size: width and height must be positive"},
+    {"render_surface_spacing_negative.json", "render.surface_spacing: must be a length in metres"},
     {"render_method_bad.json", "render.method: unknown value \"raytrace\" (expected one of \"surface\", \"splat\")"},
     {"render_up_along_view.json", "render.camera.up: must not point along the view direction"},
     {"whitespace_only.json", "the file is empty"},

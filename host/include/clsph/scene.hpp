@@ -147,6 +147,9 @@ struct RenderSettings {
     Vec3 eye{0, 0, 0}, target{0, 0, 0}, up{0, 0, 1};
     double fov_deg = 40.0;
     std::uint32_t width = 1280, height = 720;
+    // The method "surface": the free surface's sample spacing in an image, m; 0: as fine as a pixel
+    // at the camera's target but no finer than dp / 2 (finer triangles than pixels cost and do not show).
+    double surface_spacing = 0.0;
 };
 
 struct Scene {

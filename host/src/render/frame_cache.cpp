@@ -22,6 +22,12 @@ Renderer& FrameCache::renderer(cl_rt::Device& device) {
     return *r;
 }
 
+Finisher& FrameCache::finisher(cl_rt::Device& device) {
+    auto& f = per_device_[&device].finisher;
+    if (!f) f = std::make_unique<Finisher>(device);
+    return *f;
+}
+
 const UploadedLayer& FrameCache::boxes(cl_rt::Device& device, const std::vector<SolidBox>& boxes) {
     auto& up = per_device_[&device].boxes;
     if (!up) {

@@ -7,6 +7,7 @@
 #include "cl/device.hpp"
 #include "clsph/scene.hpp"
 #include "device/grid.hpp"
+#include "render/finish.hpp"
 #include "render/renderer.hpp"
 #include "render/splat.hpp"
 
@@ -20,6 +21,7 @@ public:
     Splatter& splatter(cl_rt::Device& device, const device::Grid& grid);
     SplatShader& shader(cl_rt::Device& device);
     Renderer& renderer(cl_rt::Device& device);
+    Finisher& finisher(cl_rt::Device& device);
     // The solid boxes as a layer on `device` (uploaded on the first call; a run's boxes do not change).
     const UploadedLayer& boxes(cl_rt::Device& device, const std::vector<SolidBox>& boxes);
 
@@ -28,6 +30,7 @@ private:
         std::unique_ptr<Splatter> splatter;
         std::unique_ptr<SplatShader> shader;
         std::unique_ptr<Renderer> renderer;
+        std::unique_ptr<Finisher> finisher;
         std::unique_ptr<UploadedLayer> boxes;
     };
     std::map<const cl_rt::Device*, PerDevice> per_device_;

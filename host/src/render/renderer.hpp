@@ -38,6 +38,10 @@ struct CameraBasis {
 };
 CameraBasis camera_basis(const CameraView& camera);
 
+// `b` at least `bytes` long, its contents undefined: kept when it is, else released, then
+// allocated (the images' buffers, kept from frame to frame).
+void keep_buffer(cl_rt::Device& device, cl_rt::Buffer& b, std::size_t bytes, const char* what);
+
 // A vector (and w) as the kernels' float4.
 cl_float4 float4_of(const std::array<double, 3>& v, double w = 0);
 
@@ -88,6 +92,12 @@ private:
 // drawn by the caller); ties keep the first image's colour.
 DepthImage composite(const std::vector<DepthImage>& images);
 
+// The pixels lines cover (a pixel of the camera's image, row-major, and the depth its line has
+// there, as bits of a float, a little in front of a face the line lies on), in order.
+struct LinePixel {
+    std::uint32_t index = 0, depth = 0;
+};
+std::vector<LinePixel> line_pixels(const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines);
 // Lines drawn into the image with the depth test (wireframes of the walls).
 void draw_lines(DepthImage& image, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
                 std::array<std::uint8_t, 3> rgb);

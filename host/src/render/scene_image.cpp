@@ -64,6 +64,7 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 namespace {
 
 constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
+constexpr std::array<std::uint8_t, 3> kBackground{246, 246, 246};
 
 // The devices' images composited by depth, the walls' outlines drawn over, on the background.
 Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraView& camera) {
@@ -77,7 +78,7 @@ Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraVie
         im = composite(images);
     }
     draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
-    return to_rgb(im, {246, 246, 246});
+    return to_rgb(im, kBackground);
 }
 
 }  // namespace
@@ -157,7 +158,10 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     auto& slabs = driver.slabs();
     const std::uint32_t mode = field_mode(style.surface);
     const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
-    std::vector<DepthImage> images;
+    // The first device that draws keeps its image and finishes the picture; the others' images are
+    // read back and merged into it there, in the devices' order.
+    RenderTarget target;
+    cl_rt::Device* shows = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
         const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !scene.solids.empty();
@@ -175,10 +179,17 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                 layers.back().values = &values;
             }
         }
-        if (boxes) layers.push_back(cache.boxes(*slabs[d].device, scene.solids).layer());  // in the same image: one read-back
-        images.push_back(r.draw(camera, layers));
+        if (boxes) layers.push_back(cache.boxes(*slabs[d].device, scene.solids).layer());  // in the same image
+        if (!shows) {
+            shows = slabs[d].device;
+            target = r.render(camera, layers);
+        } else {
+            cache.finisher(*shows).merge(target, r.draw(camera, layers));
+        }
     }
-    Image out = finish(std::move(images), scene, camera);
+    Image out = shows ? cache.finisher(*shows).finish(target, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70},
+                                                      kBackground, false)
+                      : finish({}, scene, camera);
     out.range = range;
     return out;
 }

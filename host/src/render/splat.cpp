@@ -8,17 +8,6 @@
 #include <algorithm>
 
 namespace clsph::render {
-namespace {
-
-// `b` of `bytes` (its contents undefined): kept when it has that size, else released, then allocated.
-void ensure(cl_rt::Device& device, cl_rt::Buffer& b, std::size_t bytes, const char* what) {
-    if (b.bytes() == bytes) return;
-    b = {};
-    b = device.alloc(bytes, what);
-}
-
-}  // namespace
-
 Splatter::Splatter(cl_rt::Device& device, const device::Grid& grid)
     : device_(device), grid_(grid), wg_(device.work_group_size(64)) {
     std::string opts = grid.kernel_options();
@@ -35,10 +24,10 @@ void Splatter::splat(const CameraView& camera, const device::ParticleArrays& par
     height_ = camera.height;
     unit_ = radius * kThicknessUnit;
     has_field_ = field.mode != 0;
-    ensure(device_, depth_, pixels * sizeof(cl_uint), "splat depth");
-    ensure(device_, thickness_, pixels * sizeof(cl_uint), "splat thickness");
+    keep_buffer(device_, depth_, pixels * sizeof(cl_uint), "splat depth");
+    keep_buffer(device_, thickness_, pixels * sizeof(cl_uint), "splat thickness");
     // The field's sums only when colouring by one (a word of room otherwise: the kernel never touches it).
-    ensure(device_, field_, (has_field_ ? pixels : 1) * sizeof(cl_uint), "splat field");
+    keep_buffer(device_, field_, (has_field_ ? pixels : 1) * sizeof(cl_uint), "splat field");
     device_.fill(depth_, cl_uint(0xffffffffu), pixels);
     device_.fill(thickness_, cl_uint(0), pixels);
     device_.fill(field_, cl_uint(0), has_field_ ? pixels : 1);
@@ -84,9 +73,9 @@ void Splatter::merge(const SplatImage& other) {
     if (other.width != width_ || other.height != height_ || other.unit != unit_ || other.field.empty() == has_field_)
         throw Error("splat: the devices' images differ in size, thickness unit or field");
     if (pixels == 0) return;
-    ensure(device_, in_depth_, pixels * sizeof(cl_uint), "splat merged depth");
-    ensure(device_, in_thickness_, pixels * sizeof(cl_uint), "splat merged thickness");
-    ensure(device_, in_field_, (has_field_ ? pixels : 1) * sizeof(cl_uint), "splat merged field");
+    keep_buffer(device_, in_depth_, pixels * sizeof(cl_uint), "splat merged depth");
+    keep_buffer(device_, in_thickness_, pixels * sizeof(cl_uint), "splat merged thickness");
+    keep_buffer(device_, in_field_, (has_field_ ? pixels : 1) * sizeof(cl_uint), "splat merged field");
     device_.write(in_depth_, other.depth.data(), pixels);
     device_.write(in_thickness_, other.thickness.data(), pixels);
     if (has_field_) device_.write(in_field_, other.field.data(), pixels);

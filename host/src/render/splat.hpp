@@ -96,7 +96,8 @@ struct Environment {
 class SplatShader {
 public:
     explicit SplatShader(cl_rt::Device& device);
-    DepthImage shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids, const Environment& env);
+    // The picture, left on the device (valid until the next shade).
+    RenderTarget shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids, const Environment& env);
 
 private:
     cl_rt::Device& device_;

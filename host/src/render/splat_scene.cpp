@@ -1,7 +1,8 @@
 // An image of a simulation by splats (render.method "splat"): every device splats the fluid
 // particles it owns (no ghosts: each particle is drawn once), the first device merges the others'
 // images into its own, renders the solid boxes (Renderer, as the surface method does) and shades
-// the water over them, all in its memory; the host draws the walls' outlines last with the depth test.
+// the water over them and draws the walls' outlines with the depth test, all in its memory: only
+// the other devices' splats and the finished picture cross to the host.
 #include "render/scene_image.hpp"
 #include "render/field.hpp"
 #include "render/frame_cache.hpp"
@@ -77,15 +78,10 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
         const UploadedLayer& boxes = cache.boxes(*shading, scene.solids);
         solids = cache.renderer(*shading).render(camera, {boxes.layer()});
     }
-    DepthImage im = cache.shader(*shading).shade(camera, *water, solids.depth ? &solids : nullptr, environment_of(scene, camera));
-    draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
-    Image out;
+    const RenderTarget im = cache.shader(*shading).shade(camera, *water, solids.depth ? &solids : nullptr, environment_of(scene, camera));
+    // The shading coloured every pixel (the sky and the ground where nothing else is).
+    Image out = cache.finisher(*shading).finish(im, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70}, {0, 0, 0}, true);
     if (field.mode) out.range = field.range;
-    out.width = im.width;
-    out.height = im.height;
-    out.rgb.resize(std::size_t{3} * im.width * im.height);
-    for (std::size_t p = 0; p < im.colour.size(); ++p)
-        for (std::size_t c = 0; c < 3; ++c) out.rgb[3 * p + c] = static_cast<std::uint8_t>((im.colour[p] >> (8 * c)) & 0xffu);
     return out;
 }
 

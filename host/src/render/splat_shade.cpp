@@ -33,7 +33,7 @@ SplatShader::SplatShader(cl_rt::Device& device) : device_(device), wg_(device.wo
     shade_k_ = device.kernel("splat_shade.cl", "splat_shade");
 }
 
-DepthImage SplatShader::shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids,
+RenderTarget SplatShader::shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids,
                               const Environment& env) {
     const std::size_t pixels = std::size_t{camera.width} * camera.height;
     if (water.width() != camera.width || water.height() != camera.height)
@@ -99,7 +99,7 @@ DepthImage SplatShader::shade(const CameraView& camera, const Splatter& water, c
                     *thick_in, solid_depth, solid_colour, field_, colour_, out_depth_);
     device_.launch("splat.shade", shade_k_, pixels, wg_);
 
-    return read_depth_image(device_, out_depth_, colour_, camera.width, camera.height);
+    return {&out_depth_, &colour_, camera.width, camera.height};
 }
 
 }  // namespace clsph::render

@@ -245,9 +245,10 @@ RunControl read_run(const Json& v) {
 }
 
 RenderSettings read_render(const Json& v) {
-    Fields f(v, "render", {"method", "camera", "size"});
+    Fields f(v, "render", {"method", "camera", "size", "surface_spacing"});
     RenderSettings r;
     r.method = f.choice("method", r.method, {{"surface", RenderMethod::surface}, {"splat", RenderMethod::splat}});
+    r.surface_spacing = f.number("surface_spacing", r.surface_spacing);
     if (const Json* c = f.find("camera")) {
         Fields cf(*c, "render.camera", {"eye", "target", "up", "fov"});
         r.has_camera = true;

@@ -171,6 +171,7 @@ Json scene_to_document(const Scene& s) {
         render["camera"] = cam;
     }
     render["size"] = Json::array({s.render.width, s.render.height});
+    if (s.render.surface_spacing != 0) render["surface_spacing"] = s.render.surface_spacing;
     doc["render"] = render;
     return doc;
 }

@@ -259,6 +259,8 @@ void Scene::validate() const {
         require(std::isfinite(render.fov_deg) && render.fov_deg > 0 && render.fov_deg < 180, "render.camera.fov",
                 "must be an angle in (0, 180) degrees");
     }
+    require(std::isfinite(render.surface_spacing) && render.surface_spacing >= 0, "render.surface_spacing",
+            "must be a length in metres, or 0 for the automatic spacing (as fine as a pixel, no finer than dp / 2)");
 
     const double tol = 1e-9 * p.dp;
     auto inside = [&](const Vec3& a) {
