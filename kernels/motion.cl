@@ -87,6 +87,9 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
         } else if (type == 1) {  // sine
             u = y + vec * (sin(w * tau + phase) - sin(phase));
             if (moving) v = vec * (w * cos(w * tau + phase));
+        } else if (type == 4) {  // a floating body: the pose the host supplies (R, T), V and W
+            u = y;
+            v = vec + cross((real3)(s[19], s[20], s[21]), u - (real3)(s[13], s[14], s[15]));
         } else {  // rotations: about the unit axis vec through c
             const real3 c = (real3)(s[19], s[20], s[21]);
             const real rate = type == 2 ? mag * w * cos(w * tau + phase) : mag;
@@ -140,7 +143,7 @@ __kernel void turn_ghost_nodes(const uint first, const uint last, __global const
         __global const real* s = table + (uint)found * SEG;
         g = (real3)(s[4] * g.x + s[5] * g.y + s[6] * g.z, s[7] * g.x + s[8] * g.y + s[9] * g.z,
                     s[10] * g.x + s[11] * g.y + s[12] * g.z);
-        if ((int)s[0] >= 2) g = turn((real3)(s[16], s[17], s[18]), angle_of(s, fmin(t, s[2]) - s[1]), g);
+        if ((int)s[0] == 2 || (int)s[0] == 3) g = turn((real3)(s[16], s[17], s[18]), angle_of(s, fmin(t, s[2]) - s[1]), g);
     }
     float4 out = g0;
     out.xyz = convert_float3(g);
