@@ -14,7 +14,7 @@ using scene_test::error_of;
 
 namespace {
 
-// A tank with water and a filled box at [0.5, 0.7] x [0, 0.2] x [0.2, 0.3] with `floating`, and
+// A tank with water and a filled box at [0.5, 0.7] x [0.1, 0.3] x [0.2, 0.3] with `floating`, and
 // `extra` keys of the box.
 std::string scene_with(const std::string& floating, const std::string& extra = "", const std::string& method = "dbc",
                        int layers = 0) {
@@ -24,7 +24,7 @@ std::string scene_with(const std::string& floating, const std::string& extra = "
   "fluid": [{"min": [0, 0, 0], "max": [1, 0.4, 0.25]}],
   "boundaries": {
     "walls": [{"min": [0, 0, 0], "max": [1, 0.4, 1]}],
-    "boxes": [{"min": [0.5, 0, 0.2], "max": [0.7, 0.2, 0.3], "layers": )" + std::to_string(layers) + R"(, "floating": )" +
+    "boxes": [{"min": [0.5, 0.1, 0.2], "max": [0.7, 0.3, 0.3], "layers": )" + std::to_string(layers) + R"(, "floating": )" +
            floating + extra + R"(}],
     "method": ")" + method + R"("
   }
@@ -50,7 +50,7 @@ TEST_CASE("a floating box: read, written back the same, its mass, centre and ine
     const double mass = 500.0 * 0.25 * 0.25 * 0.15;
     CHECK(b.mass == doctest::Approx(mass).epsilon(1e-12));
     CHECK(b.centre[0] == doctest::Approx(0.6));
-    CHECK(b.centre[1] == doctest::Approx(0.1));
+    CHECK(b.centre[1] == doctest::Approx(0.2));
     CHECK(b.centre[2] == doctest::Approx(0.25));
     // Point masses m = M / 75 at offsets {-2..2} dp, {-2..2} dp, {-1..1} dp: I_xx = m (sum y^2 + sum z^2).
     const double m = mass / 75.0, dp = 0.05;
@@ -61,7 +61,7 @@ TEST_CASE("a floating box: read, written back the same, its mass, centre and ine
     CHECK(std::abs(b.inertia[1]) < 1e-12);
     // Given: mass, centre and a diagonal inertia are taken as they are.
     const clsph::Scene g = clsph::Scene::from_json_text(
-        scene_with(R"({"mass": 2.5, "centre": [0.6, 0.1, 0.22], "inertia": [0.1, 0.2, 0.3]})"), "tank.json");
+        scene_with(R"({"mass": 2.5, "centre": [0.6, 0.2, 0.22], "inertia": [0.1, 0.2, 0.3]})"), "tank.json");
     const auto gb = clsph::scene::floating_bodies(g);
     CHECK(gb[0].name == "box0");
     CHECK(gb[0].mass == 2.5);
@@ -89,6 +89,13 @@ TEST_CASE("bad floating bodies are errors naming the file and the key") {
     CHECK(error(R"({"density": 500})", R"(, "motion": {"segments": [{"type": "linear", "start": 0, "end": 1, "velocity": [1, 0, 0]}]})")
               .find("boundaries.boxes[0].floating: a floating solid cannot have a prescribed motion too") != std::string::npos);
     CHECK(error(R"({"density": 500})", "", "mdbc").find("boundaries.method: floating bodies need \"dbc\"") != std::string::npos);
+    // Touching the tank's floor (z = 0, its first layer of particles) at the box's bottom face.
+    {
+        clsph::Scene t = clsph::Scene::from_json_text(scene_with(R"({"density": 500})"), "tank.json");
+        t.solids[0].min[2] = 0.0;
+        const std::string e = error_of([&] { t.validate(); });
+        CHECK(e.find("boundaries.boxes[0]: touches another solid at (") == 0);
+    }
     // A shell (layers > 0) still may not start in the fluid: the fluid would be trapped inside.
     CHECK(error(R"({"density": 500})", "", "dbc", 1).find("overlaps the solid boundaries.boxes[0]") != std::string::npos);
 }

@@ -76,11 +76,11 @@ void Physics::enqueue_floating(ParticleStore& ps, const CellPipeline& cells) {
 
 void Physics::add_floating_sums(std::vector<std::int64_t>& sums) {
     if (floating_bodies_ == 0) return;
-    if (!floating_summed_) throw Error("floating bodies: the sums were read before a force pass computed them");
+    sums.resize(floating_bodies_ * 12, 0);
+    if (!floating_summed_) return;  // no force pass since the last read: this device holds none of the bodies
     floating_summed_ = false;
     std::vector<cl_long> raw(floating_bodies_ * floating_groups_ * 12);
     device_.read(floating_partials_, raw.data(), raw.size());
-    sums.resize(floating_bodies_ * 12, 0);
     for (std::size_t b = 0; b < floating_bodies_; ++b)
         for (std::size_t g = 0; g < floating_groups_; ++g)
             for (std::size_t k = 0; k < 12; ++k) {

@@ -124,6 +124,29 @@ void check_floating(const Scene& scene) {
         names.push_back(name);
     }
     if (!scene.has_floating()) return;
+    // A lattice point a floating box shares with a wall or another box is the first solid's particle,
+    // and would move with the body: refused (meshes are not checked here).
+    const double dp = scene.physics.dp;
+    std::vector<std::uint64_t> others;
+    std::vector<Vec3> pts;
+    for (const auto& w : scene.walls) sample_walls(w, dp, pts);
+    for (const auto& b : scene.solids)
+        if (!b.floating.enabled) sample_solid(b, dp, pts);
+    for (const auto& x : pts) others.push_back(lattice_key(x, dp));
+    for (std::size_t i = 0; i < scene.solids.size(); ++i) {
+        if (!scene.solids[i].floating.enabled) continue;
+        std::sort(others.begin(), others.end());
+        std::vector<Vec3> mine;
+        sample_solid(scene.solids[i], dp, mine);
+        for (const auto& x : mine) {
+            const std::uint64_t k = lattice_key(x, dp);
+            require(!std::binary_search(others.begin(), others.end(), k), "boundaries.boxes[" + std::to_string(i) + "]",
+                    "touches another solid at (" + num(x[0]) + ", " + num(x[1]) + ", " + num(x[2]) +
+                        "): a floating box may not share a particle with a wall or another box (leave dp between them)");
+        }
+        for (const auto& x : mine) others.push_back(lattice_key(x, dp));
+    }
+
     require(scene.boundary_method == BoundaryMethod::dbc, "boundaries.method",
             "floating bodies need \"dbc\" walls for now (mDBC's ghost nodes do not follow a floating body yet)");
 }
