@@ -121,6 +121,9 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
             const real3 c = (real3)(s[19], s[20], s[21]) + vel * tau;
             u = c + turn(vec, mag * tau, y - (real3)(s[19], s[20], s[21]));
             if (moving) v = vel + cross(vec * mag, u - c);
+        } else if (type == 7) {  // a floating body: the pose the host supplies (R, T), V and W
+            u = y;
+            v = vec + cross((real3)(s[19], s[20], s[21]), u - (real3)(s[13], s[14], s[15]));
         } else {  // rotations: about the unit axis vec through c
             const real3 c = (real3)(s[19], s[20], s[21]);
             real rate = type == 2 ? mag * w * cos(w * tau + phase) : mag;

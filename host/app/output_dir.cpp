@@ -22,7 +22,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 bool written_by_a_run(const std::string& name) {
     if (ends_with(name, ".tmp")) return true;  // a writer cut short mid-rename
     if (starts_with(name, "frame_") && (ends_with(name, ".vtu") || ends_with(name, ".pvtu") || ends_with(name, ".csv"))) return true;
-    if (starts_with(name, "probe_") && ends_with(name, ".csv")) return true;
+    if ((starts_with(name, "probe_") || starts_with(name, "body_")) && ends_with(name, ".csv")) return true;
     if (starts_with(name, "checkpoint_") && ends_with(name, ".clsph")) return true;
     if (starts_with(name, "surge_front.")) return true;
     if (starts_with(name, "surface_") && (ends_with(name, ".vtp") || ends_with(name, ".ply"))) return true;

@@ -84,6 +84,7 @@ public:
 
         auto on_step = [&](const StepInfo& s) {
             record_.step(s);
+            record_.bodies(sim_.bodies());  // floating bodies: a row each step
             totals_.particle_steps += static_cast<double>(s.particles);
             const int every = sim_.scene().run.probe_every;
             if (every > 0 && s.step % static_cast<std::uint64_t>(every) == 0) sample_probes();
@@ -115,6 +116,7 @@ public:
                     next_frame = static_cast<std::uint64_t>(std::floor(sim_.time() / plan_.every + 1e-9)) + 1;
                 } else {
                     record_.step(sim_.info());
+                    record_.bodies(sim_.bodies());
                     sample_probes();
                     submit_frame();
                     // Something to go back to when a device fails.

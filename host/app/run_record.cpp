@@ -106,6 +106,8 @@ RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Pr
     if (!identity_.start_time.empty()) started_ = identity_.start_time;
     const char* stats_header = "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed";
     if (resume) {
+        resumed_ = true;
+        resume_time_ = resume->time;
         const auto step = resume->step;
         const double t = resume->time, eps = 1e-8 * std::max(1.0, std::abs(resume->time));  // the rows hold 9 digits
         stats_ = reopen_csv(dir_ + "/stats.csv", stats_header,
@@ -153,10 +155,39 @@ void RunRecord::probes(const std::vector<ProbeSample>& samples) {
     }
 }
 
+void RunRecord::bodies(const std::vector<BodySample>& samples) {
+    if (!writes_ || samples.empty()) return;
+    static const char* header =
+        "time,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz";
+    if (body_files_.empty()) {
+        const double t = resume_time_, eps = 1e-8 * std::max(1.0, std::abs(t));
+        for (const auto& b : samples) {
+            const std::string path = dir_ + "/body_" + safe_name(b.name) + ".csv";
+            body_files_.push_back(std::make_unique<std::ofstream>(
+                resumed_ ? reopen_csv(path, header, [t, eps](const std::string& f) { return std::stod(f) <= t + eps; })
+                         : open_csv(path, header)));
+        }
+    }
+    for (std::size_t i = 0; i < samples.size() && i < body_files_.size(); ++i) {
+        const auto& b = samples[i];
+        std::ostringstream row;
+        row.precision(9);
+        row << b.time;
+        for (double x : b.position) row << ',' << x;
+        for (double x : b.quaternion) row << ',' << x;
+        for (const auto* a : {&b.velocity, &b.angular_velocity, &b.force, &b.torque})
+            for (double x : *a) row << ',' << x;
+        *body_files_[i] << row.str() << '\n';
+        if (!*body_files_[i]) throw Error("cannot write " + dir_ + "/body_" + safe_name(b.name) + ".csv");
+    }
+    last_bodies_ = samples;
+}
+
 void RunRecord::flush() {
     if (!writes_) return;
     last_flush_ = std::chrono::steady_clock::now();
     stats_.flush();
+    for (auto& f : body_files_) f->flush();
     if (!stats_) throw Error("cannot write " + dir_ + "/stats.csv");
     for (auto& [name, file] : probe_files_) {
         file->flush();
@@ -169,6 +200,7 @@ void RunRecord::finish(const std::string& status, const StepInfo& last, const st
     if (!writes_) return;
     stats_.flush();
     for (auto& entry : probe_files_) entry.second->flush();
+    for (auto& f : body_files_) f->flush();
     write_json(Ending{status, &last, message, exit_status, signal});
 }
 
@@ -215,6 +247,23 @@ std::string RunRecord::json_text(const Ending& e) const {
           << "  \"wall_seconds\": " << json_number(last->wall_seconds) << ",\n"
           << "  \"particles\": " << last->particles << ",\n"
           << "  \"removed\": " << last->removed << ",\n";
+    }
+    if (!last_bodies_.empty()) {  // floating bodies: their state at the last row written
+        j << "  \"bodies\": [";
+        auto arr = [&](const auto& a) {
+            std::string s = "[";
+            for (std::size_t k = 0; k < a.size(); ++k) s += (k ? ", " : "") + json_number(a[k]);
+            return s + "]";
+        };
+        for (std::size_t i = 0; i < last_bodies_.size(); ++i) {
+            const auto& b = last_bodies_[i];
+            j << (i ? ",\n    " : "\n    ") << "{\"name\": " << json_string(b.name) << ", \"time\": " << json_number(b.time)
+              << ", \"mass\": " << json_number(b.mass) << ", \"position\": " << arr(b.position)
+              << ", \"quaternion\": " << arr(b.quaternion) << ", \"velocity\": " << arr(b.velocity)
+              << ", \"angular_velocity\": " << arr(b.angular_velocity) << ", \"force\": " << arr(b.force)
+              << ", \"torque\": " << arr(b.torque) << "}";
+        }
+        j << "\n  ],\n";
     }
     // The scene text is already JSON; indent it one level so the file reads as a whole.
     std::string scene = identity_.scene_json;

@@ -50,6 +50,9 @@ public:
     void flush();
     // probe_<name>.csv: time,value (NaN: no fluid at the probe)
     void probes(const std::vector<ProbeSample>& samples);
+    // Floating bodies (Simulation::bodies): a row in each body_NAME.csv (opened at the first call;
+    // on a resume, kept up to the checkpoint's time), and the last state for run.json.
+    void bodies(const std::vector<BodySample>& samples);
     // Rewrites run.json with the outcome ("running", "completed", "interrupted", "failed") and the
     // last step reached; flushes the CSV streams so they are complete whatever happens next.
     // `exit_status` and `signal` (the signal that stopped the run, empty: none) go into run.json too.
@@ -80,6 +83,10 @@ private:
     std::ofstream stats_;
     std::chrono::steady_clock::time_point last_flush_;
     std::vector<std::pair<std::string, std::unique_ptr<std::ofstream>>> probe_files_;  // by probe name
+    std::vector<std::unique_ptr<std::ofstream>> body_files_;  // in Simulation::bodies() order
+    std::vector<BodySample> last_bodies_;
+    bool resumed_ = false;
+    double resume_time_ = 0;
     bool writes_ = true;
 };
 

@@ -88,6 +88,10 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     w.vec(c.velrho);
     w.vec(c.accel);
     w.vec(c.id);
+    if (!c.bodies.empty()) {  // floating bodies only: a file without them is as before
+        w.put<std::uint64_t>(c.bodies.size());
+        w.vec(c.bodies);
+    }
     w.put(fnv1a(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
     const std::string tmp = path + ".tmp";
     {
@@ -144,6 +148,11 @@ Checkpoint read_checkpoint(const std::string& path, const Scene* scene) {
     r.vec(c.velrho, 4 * n);
     r.vec(c.accel, 4 * n);
     r.vec(c.id, n);
+    if (in.size() - r.at > sizeof stored + sizeof(std::uint64_t)) {  // floating bodies' states
+        const auto m = r.get<std::uint64_t>();
+        if (m > (in.size() - r.at) / sizeof(double)) throw CheckpointError(path, stored != computed ? "corrupt (checksum mismatch)" : "truncated");
+        r.vec(c.bodies, m);
+    }
     if (in.size() - r.at != sizeof stored)
         throw CheckpointError(path, in.size() - r.at < sizeof stored ? "truncated (no checksum)" : "corrupt (trailing bytes)");
     if (stored != computed) throw CheckpointError(path, "corrupt (checksum mismatch)");

@@ -152,6 +152,24 @@ TEST_CASE("the plan predicts a moving solid's motion table, buffer by buffer") {
     }
 }
 
+TEST_CASE("the plan predicts a floating body's buffers, buffer by buffer") {
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        Scene s = tiny_dam_break();
+        SolidBox b;  // a filled box in the dry part of the tank
+        b.min = {0.35, 0.0, 0.05};
+        b.max = {0.45, 0.1, 0.12};
+        b.layers = 0;
+        b.floating.enabled = true;
+        b.floating.density = 500;
+        s.solids.push_back(b);
+        s.validate();
+        Options o;
+        o.synchronous = true;
+        check_prediction(s, spec_of(d), o, 3, false, true);
+    }
+}
+
 // The split is the balancer's first cuts over the census (equal work: boundary particles weigh
 // 0.4); a store given more than its initial capacity grows, at the upload in one allocation, at the
 // exchanges keeping its particles (old and new arrays at the peak): small_dam's device 0 does with

@@ -123,6 +123,23 @@ TEST_CASE("wave_flume: a piston wave maker 12 m from the far wall, kd about 1, n
     CHECK(c.coincident == 0);
 }
 
+TEST_CASE("floating_box: a box of density 500 held above a tank's water, free in x and z and about y") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/floating_box.json"));
+    REQUIRE(s.solids.size() == 1);
+    CHECK(s.has_floating());
+    CHECK_FALSE(s.has_motion());
+    const auto& f = s.solids[0].floating;
+    CHECK(f.density == 500.0);
+    CHECK(f.free_translation == std::array<bool, 3>{true, false, true});
+    CHECK(f.free_rotation == std::array<bool, 3>{false, true, false});
+    // The box, filled, spans the periodic slice: 17 x 13 x 13 lattice points, its bottom 0.1 m above the water.
+    CHECK(s.solids[0].min[2] - s.fluids[0].max[2] == doctest::Approx(0.1));
+    const Counts c = build_and_check(s);
+    // x: 0.01 ... 0.79 (dp from the end walls), z: dp ... 0.3, y: 13 lattice lines.
+    CHECK(c.fluid == 79 * 30 * 13);
+    CHECK(c.coincident == 0);
+}
+
 TEST_CASE("spheric2: the benchmark case, built at a coarser dp through an override") {
     const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/spheric2.json"));
     CHECK(s.physics.dp == 0.006);

@@ -41,6 +41,9 @@ struct Checkpoint {
     // pos (offset from the cell centre xyz + key bits w), velrho, accel (xyz + drho/dt), id words.
     std::vector<float> pos, velrho, accel;
     std::vector<std::uint32_t> id;
+    // Floating bodies (docs/scenes.md, floating): each body's state in double, body after body
+    // (empty without them; the file then has no such block).
+    std::vector<double> bodies;
     std::size_t size() const { return id.size(); }
 };
 

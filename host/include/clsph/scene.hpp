@@ -120,11 +120,28 @@ struct BoxWalls {
     Motion motion;
 };
 
+// A floating rigid body (docs/scenes.md, floating): the fluid's force and torque on the solid's
+// particles and gravity move it as a rigid body. Exactly one of density (kg/m^3, of the solid's
+// volume: a box's extent plus dp/2 on every side) and mass (kg) is positive. Centre (the centre of
+// mass) and inertia (kg m^2 about it, row-major) default to those of the solid's particles, each
+// carrying mass / count.
+struct Floating {
+    bool enabled = false;
+    std::string name;             // body_NAME.csv; default "box<i>"
+    double density = 0, mass = 0;
+    std::optional<Vec3> centre;
+    std::optional<std::array<double, 9>> inertia;
+    // The axes (x, y, z, world frame) along which it may move and about which it may turn: a body
+    // in a slice periodic in y that spans the slice moves in x and z and turns about y only.
+    std::array<bool, 3> free_translation{true, true, true}, free_rotation{true, true, true};
+};
+
 // A solid box of boundary particles: layers inward from its faces (0 layers: filled).
 struct SolidBox {
     Vec3 min{0, 0, 0}, max{0, 0, 0};
     int layers = 3;
     Motion motion;
+    Floating floating;
 };
 
 // A closed triangle mesh (OBJ, STL or PLY, by the file's extension): boundary layers inward from
@@ -209,6 +226,8 @@ struct Scene {
     Count count_particles() const;
     // Whether any solid has a prescribed motion.
     bool has_motion() const;
+    // Whether any solid floats (Floating).
+    bool has_floating() const;
 };
 
 }  // namespace clsph

@@ -53,6 +53,17 @@ struct ProbeSample {
     double value = 0.0;  // Pa for pressure probes, m for height probes (NaN: no fluid there)
 };
 
+// A floating body now (docs/scenes.md, floating): its state after the last step.
+struct BodySample {
+    std::string name;                        // the scene's floating.name (body_NAME.csv)
+    double time = 0.0;
+    std::array<double, 3> position{};        // the centre of mass (m)
+    std::array<double, 4> quaternion{1, 0, 0, 0};  // orientation from rest (w, x, y, z)
+    std::array<double, 3> velocity{}, angular_velocity{};  // m/s, rad/s
+    std::array<double, 3> force{}, torque{};  // the fluid's, about the centre (N, N m; gravity not included)
+    double mass = 0.0;                       // kg
+};
+
 struct KernelTime {
     std::string name;
     std::string device;  // the device that ran it (empty for host phases)
@@ -129,6 +140,8 @@ public:
     std::vector<std::string> device_names() const;
     std::vector<DeviceShare> shares() const;  // each device's part of the domain now
 
+    // The floating bodies now, in the order of boundaries.boxes (empty: none).
+    std::vector<BodySample> bodies() const;
     // Probe values now (computed on the device).
     std::vector<ProbeSample> sample_probes();
     // The free surface now (clsph/mesh.hpp): sampled and meshed on the devices, each its own slab;

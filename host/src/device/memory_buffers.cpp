@@ -6,6 +6,7 @@
 
 #include "device/sizing.hpp"
 #include "probes/gauges.hpp"
+#include "scene/floating.hpp"
 #include "scene/motion.hpp"
 
 #include <algorithm>
@@ -88,7 +89,8 @@ struct Context {
     std::size_t slabs, particles, rows, probe_points;
     bool mdbc, ahead, any_boundary;
     std::uint32_t max_boundary_id;
-    std::size_t motion_segments;  // of every moving solid (0: none)
+    std::size_t motion_segments;  // of every moving solid and a row per floating body (0: none)
+    std::size_t floating_bodies;
 };
 
 // Every buffer of slab d with stores of `cap` particles, an edge sort of `edge` and a cell sort of
@@ -148,6 +150,12 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
         add("motion segments", c.motion_segments * device::MotionTable::kSegmentDoubles * real, false);
         add("motion rest positions", ids * f4);
         add("motion local positions", ids * 4 * real);
+    }
+    // physics_floating.cpp set_floating() and enqueue_floating().
+    if (c.floating_bodies) {
+        add("floating body offsets", (c.any_boundary ? c.max_boundary_id + std::size_t{1} : 1) * f4);
+        add("floating body sums", c.floating_bodies * sz::kick_groups(x.device.compute_units) * 12 * sizeof(std::int64_t), false);
+        add("floating body forces", cap * f4);
     }
     // exchange.cpp: the boxes particles leave and arrive in.
     for (const char* a : {"positions", "velocity+density", "acceleration+drho/dt"}) {
@@ -248,8 +256,9 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                     [&] {
                         std::size_t n = 0;
                         for (const auto& m : scene::moving_solids(scene)) n += m.motion.segments.size();
-                        return n;
-                    }()};
+                        return n + scene::floating_bodies(scene).size();
+                    }(),
+                    scene::floating_bodies(scene).size()};
     for (std::size_t d = 0; d < D; ++d) {
         const Share& s = shares[d];
         DeviceMemoryPlan x = buffers_of(c, s, d, s.capacity, s.edge, s.active);

@@ -6,6 +6,7 @@
 #include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
+#include "device/floating_table.hpp"
 #include "device/grid.hpp"
 #include "device/motion_table.hpp"
 #include "device/particle_store.hpp"
@@ -75,6 +76,19 @@ public:
     bool moves() const { return motion_segments_ > 0; }
     void move_solids(ParticleStore& ps, double time, double dt, double fraction);
     void move_solids_on_clock(ParticleStore& ps);
+    // Floating bodies (kernels/floating.cl; after set_motion with the table add_floating filled):
+    // the body particles' table; before each move of the solids the bodies' poses (RigidBodies::
+    // poses) into their rows of the motion table; after a force pass, the fluid's force on the
+    // owned body particles and their fixed-point partial sums enqueued (before the kick changes
+    // velrho), and read, blocking, added into `sums` (12 a body, wrapping: two's complement).
+    void set_floating(const FloatingTable& table);
+    bool floats() const { return floating_bodies_ > 0; }
+    void set_floating_poses(const std::vector<std::array<double, 18>>& poses);
+    void enqueue_floating(ParticleStore& ps, const CellPipeline& cells);
+    void add_floating_sums(std::vector<std::int64_t>& sums);
+    cl_rt::Buffer& floating_force() { return floating_force_; }        // tests: per particle
+    cl_rt::Buffer& floating_partials() { return floating_partials_; }  // tests: per body and group
+    std::size_t floating_partial_count() const { return floating_bodies_ * floating_groups_ * 12; }
     // Symplectic (kernels/integrate.cl): the predictor to the half step (accel holds a_n), and,
     // after the half step's force pass wrote `half` (ps.scratch), the corrector to the full step.
     bool symplectic() const { return symplectic_; }
@@ -135,6 +149,10 @@ private:
     void set_motion_time_args(cl::Kernel& k, cl_uint first_arg) const;  // the clock and the times
     void turn_ghost_nodes(ParticleStore& ps);
     std::size_t ghost_count_ = 0;
+    cl::Kernel floating_k_, floating_sums_k_;
+    cl_rt::Buffer floating_rest_, floating_force_, floating_partials_;
+    std::size_t floating_bodies_ = 0, floating_ids_ = 0, floating_row_ = 0, floating_groups_ = 0, floating_capacity_ = 0;
+    bool floating_summed_ = false;  // enqueue_floating ran since the last add_floating_sums
     std::size_t wg_, coarse_wg_, kick_groups_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;

@@ -64,13 +64,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
     }
-    if (scene.has_motion()) {
-        // Prescribed motion: every device holds the whole table (a solid's particles may reach any
-        // slab), by boundary id, from the scene's boundary particles at rest.
-        const auto table = device::motion_table(scene, grid);
-        for (std::size_t d = 0; d < D; ++d)
-            if (here(d)) slabs_[d].physics->set_motion(table);
-    }
+    set_up_motion(scene);  // moving and floating solids (multi/slab_floating.cpp)
     if (scene.boundary_method == BoundaryMethod::mdbc) {
         // mDBC: every device holds each boundary particle's ghost-node offset at rest, by id (those
         // of moving solids turn with them: Physics::set_ghost_nodes). Boundaries come first in id
@@ -182,6 +176,7 @@ StepOutcome SlabDriver::start() {
         kick(d, 0.0, kicked);  // dt = 0: the checks, the reductions and a_0 into accel
     });
     StepOutcome out = reductions(kicked);
+    take_body_forces(0.0);
     out.removed = removed_at_upload_ + removed;
     read_force_times();
     return out;
@@ -200,6 +195,7 @@ StepOutcome SlabDriver::step(double dt, double time) {
             forces(d);
             correct(d, dt, time);                  // the corrector to the full step;
         });
+        if (bodies_) correct_bodies(dt, time);     // floating bodies: theirs, from every device's sums
         removed += exchange_->run([&](std::size_t d) {  // the positions moved again: forces there
             forces(d);                             // (the next predictor's), and the reductions
             kick(d, 0.0, kicked);
@@ -211,6 +207,7 @@ StepOutcome SlabDriver::step(double dt, double time) {
         });
     }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
+    take_body_forces(symplectic_ ? 0.0 : dt);      // floating bodies: the kick (Symplectic: the new accelerations)
     out.removed = removed;
     read_force_times();                            // the balancer's input for the next step
     ++steps_;
@@ -223,8 +220,10 @@ void SlabDriver::apply_seams() {
 }
 
 void SlabDriver::drift(double dt, double time) {
+    const auto poses = drift_bodies(dt);  // floating bodies: where their particles go (none: empty)
     for_each_device([&](std::size_t d) {
         auto& physics = *slabs_[d].physics;
+        if (!poses.empty()) physics.set_floating_poses(poses);
         if (symplectic_)
             physics.predict(*slabs_[d].store, dt);
         else
@@ -281,6 +280,7 @@ void SlabDriver::forces(std::size_t d) {
     if (timed) s.force_timer->begin();
     for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
     if (timed) s.force_timer->end();
+    if (bodies_) s.physics->enqueue_floating(*s.store, *s.cells);  // before the kick changes velrho
     if (options_.seams.serialize_devices) s.device->finish();
 }
 

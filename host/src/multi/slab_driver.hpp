@@ -19,6 +19,7 @@
 #include "multi/exchange.hpp"
 #include "multi/partition.hpp"
 #include "multi/phase_timer.hpp"
+#include "multi/rigid_bodies.hpp"
 #include "multi/slab.hpp"
 #include "scene/lattice_plan.hpp"
 
@@ -73,9 +74,10 @@ public:
 
     // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
     // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
-    // (Leap-frog only: a Symplectic step has two exchanges.)
+    // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
+    // the host sums each step.)
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+        return slabs_.size() == 1 && !bodies_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
                                                                slabs_[0].physics->has_clock(),
                                                                slabs_[0].physics->symplectic());
     }
@@ -95,6 +97,9 @@ public:
     // owned particles the first pass sorted (by id where the split differs from the saved one).
     void save_owned(Checkpoint& c);
     void restore_owned(const Checkpoint& c);
+    // Floating bodies (multi/slab_floating.cpp; null: none): their state, integrated on the host.
+    RigidBodies* rigid_bodies() { return bodies_.get(); }
+    const RigidBodies* rigid_bodies() const { return bodies_.get(); }
     // Throws clsph::Error naming `what` (a plural: "free surfaces") across MPI ranks.
     void one_process(const char* what) const;
 
@@ -126,6 +131,14 @@ private:
     StepOutcome reductions(cl_rt::EventSet& kicked);
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
     void read_force_times();
+    // Floating bodies: the poses after the first half of a step (empty without bodies); the sums of
+    // every device and rank; the corrector's pose put on every device; the forces taken and kicked.
+    void set_up_motion(const Scene& scene);
+    std::vector<std::array<double, 18>> drift_bodies(double dt);
+    std::vector<std::int64_t> body_sums();
+    void correct_bodies(double dt, double time);
+    void take_body_forces(double dt);
+    std::unique_ptr<RigidBodies> bodies_;
 
     Partition partition_;
     DriverOptions options_;

@@ -56,6 +56,8 @@ OwnedArrays grow_for_slab(Checkpoint& c, std::size_t n) {
 }  // namespace
 
 void SlabDriver::save_owned(Checkpoint& c) {
+    if (bodies_)  // the host's: the same on every rank
+        for (const auto& b : bodies_->states()) b.save(c.bodies);
     if (!across_ranks()) {
         for (auto& s : slabs_) read_owned(s, grow_for_slab(c, s.store->ranges.owned));
         return;
@@ -107,6 +109,14 @@ void SlabDriver::restore_owned(const Checkpoint& c) {
     // them (the key decided the order the slab sorted), velocity, density and the last forces as
     // saved. Across ranks each rank restores its own slabs (its block of the file starts after the
     // blocks of the slabs before it, whichever rank holds them).
+    if (bodies_) {
+        if (c.bodies.size() != bodies_->size() * BodyState::kDoubles)
+            throw Error("restoring a checkpoint: it holds " + std::to_string(c.bodies.size() / BodyState::kDoubles) +
+                        " floating bodies' states, the scene has " + std::to_string(bodies_->size()));
+        std::vector<BodyState> states;
+        for (std::size_t b = 0; b < bodies_->size(); ++b) states.push_back(BodyState::load(c.bodies.data() + b * BodyState::kDoubles));
+        bodies_->set_states(states);
+    }
     bool same = c.counts.size() == slabs_.size();
     for (std::size_t d = 0; same && d < slabs_.size(); ++d) same = !here(d) || slabs_[d].store->ranges.owned == c.counts[d];
     std::unordered_map<std::uint32_t, std::size_t> index;

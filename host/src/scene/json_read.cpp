@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <utility>
 
 namespace clsph::scene {
 namespace {
@@ -166,6 +167,38 @@ Motion read_motion_of(Fields& f, const Scene& scene, const std::string& base_dir
     return m && !m->is_null() ? read_motion(*m, f.path_of("motion"), scene, base_dir) : Motion{};
 }
 
+// A floating body: {"density" | "mass", "centre", "inertia" (9 numbers row-major or 3: the
+// diagonal), "name"}. Values are checked by Scene::validate.
+Floating read_floating(const Json& v, const std::string& path) {
+    Fields f(v, path, {"density", "mass", "centre", "inertia", "name", "free_translation", "free_rotation"});
+    Floating b;
+    b.enabled = true;
+    b.name = f.text("name", "");
+    b.density = f.number("density", 0.0);
+    b.mass = f.number("mass", 0.0);
+    if (!f.find("density") && !f.find("mass")) key_error(path, "needs \"density\" (kg/m^3) or \"mass\" (kg)");
+    if (f.find("density") && f.find("mass")) key_error(f.path_of("mass"), "give density or mass, not both");
+    if (f.find("centre")) b.centre = read_vec3(*f.find("centre"), f.path_of("centre"));
+    if (const Json* in = f.find("inertia")) {
+        const std::string at = f.path_of("inertia");
+        if (!in->is_array() || (in->size() != 3 && in->size() != 9))
+            key_error(at, "expected 3 numbers (the diagonal) or 9 (a 3x3 matrix, row-major), got " + in->dump());
+        std::array<double, 9> m{};
+        if (in->size() == 3)
+            for (std::size_t k = 0; k < 3; ++k) m[4 * k] = read_number((*in)[k], at + "[" + std::to_string(k) + "]");
+        else
+            for (std::size_t k = 0; k < 9; ++k) m[k] = read_number((*in)[k], at + "[" + std::to_string(k) + "]");
+        b.inertia = m;
+    }
+    for (auto [key, mask] : {std::pair<const char*, std::array<bool, 3>*>{"free_translation", &b.free_translation},
+                             std::pair<const char*, std::array<bool, 3>*>{"free_rotation", &b.free_rotation}})
+        if (const Json* m = f.find(key)) {
+            if (!m->is_array() || m->size() != 3) key_error(f.path_of(key), "expected 3 booleans (x, y, z), got " + m->dump());
+            for (std::size_t k = 0; k < 3; ++k) (*mask)[k] = read_bool((*m)[k], f.path_of(key) + "[" + std::to_string(k) + "]");
+        }
+    return b;
+}
+
 // The range is checked by Scene::validate, for scenes from files and from code alike.
 int read_layers(Fields& f, int fallback) { return f.integer("layers", fallback); }
 
@@ -209,12 +242,13 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
         });
     if (const Json* boxes = f.find("boxes"))
         for_each_element(*boxes, "boundaries.boxes", [&](const Json& e, const std::string& path) {
-            Fields w(e, path, {"min", "max", "layers", "motion"});
+            Fields w(e, path, {"min", "max", "layers", "motion", "floating"});
             SolidBox b;
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             b.layers = read_layers(w, b.layers);
             b.motion = read_motion_of(w, s, base_dir);
+            if (const Json* fl = w.find("floating"); fl && !fl->is_null()) b.floating = read_floating(*fl, w.path_of("floating"));
             s.solids.push_back(b);
         });
     if (const Json* meshes = f.find("meshes"))

@@ -3,6 +3,8 @@
 #include "scene/json_motion.hpp"
 #include "scene/json_scene.hpp"
 
+#include <utility>
+
 namespace clsph::scene {
 namespace {
 
@@ -27,6 +29,26 @@ Json faces_value(unsigned faces) {
     for (int k = 0; k < 6; ++k)
         if (faces & (1u << k)) list.push_back(names[k]);
     return list;
+}
+
+// A floating body, written only where there is one.
+void put_floating(Json& j, const Floating& f) {
+    Json o;
+    if (!f.name.empty()) o["name"] = f.name;
+    if (f.mass > 0)
+        o["mass"] = f.mass;
+    else
+        o["density"] = f.density;
+    if (f.centre) o["centre"] = vec(*f.centre);
+    if (f.inertia) {
+        Json m = Json::array();
+        for (double x : *f.inertia) m.push_back(x);
+        o["inertia"] = m;
+    }
+    for (auto [key, mask] : {std::pair<const char*, const std::array<bool, 3>*>{"free_translation", &f.free_translation},
+                             std::pair<const char*, const std::array<bool, 3>*>{"free_rotation", &f.free_rotation}})
+        o[key] = Json::array({(*mask)[0], (*mask)[1], (*mask)[2]});
+    j["floating"] = o;
 }
 
 // A solid's motion, written only where it has one (a scene without motion writes what it did before).
@@ -105,6 +127,7 @@ Json boundaries(const Scene& s) {
         j["max"] = vec(b.max);
         j["layers"] = b.layers;
         put_motion(j, b.motion);
+        if (b.floating.enabled) put_floating(j, b.floating);
         boxes.push_back(j);
     }
     for (const auto& m : s.meshes) {

@@ -3,6 +3,7 @@
 // same scenes and say the same thing about the rest. Cheap: O(blocks log blocks), no particle.
 #include "clsph/error.hpp"
 #include "clsph/scene.hpp"
+#include "scene/floating.hpp"
 #include "scene/lattice.hpp"
 #include "scene/mesh_formats.hpp"
 
@@ -332,6 +333,7 @@ void Scene::validate() const {
             for (std::size_t j = 0; j < solids.size(); ++j) {
                 const FluidBlock& f = fluids[i];
                 const SolidBox& b = solids[j];
+                if (b.floating.enabled && b.layers == 0) continue;  // filled: the fluid there is left out
                 bool overlap = true;
                 for (int k = 0; k < 3; ++k) overlap = overlap && f.min[k] < b.max[k] - tol && b.min[k] < f.max[k] - tol;
                 require_lazy(!overlap, [i] { return "fluid[" + std::to_string(i) + "]"; }, [&] {
@@ -395,6 +397,7 @@ void Scene::validate() const {
           << " boundary particles (walls and boxes) beside the fluid; clsph ids allow at most 2^31 - 1 (2.1e9) in all";
         throw SceneError("physics.dp: " + o.str());
     }
+    scene::check_floating(*this);
     (void)sound_speed();
 }
 

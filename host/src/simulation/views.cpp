@@ -48,6 +48,27 @@ std::vector<ProbeSample> Simulation::sample_probes() {
     return out;
 }
 
+std::vector<BodySample> Simulation::bodies() const {
+    const auto* rb = impl_->driver.rigid_bodies();
+    std::vector<BodySample> out;
+    if (!rb) return out;
+    for (std::size_t b = 0; b < rb->size(); ++b) {
+        const auto& s = rb->states()[b];
+        BodySample x;
+        x.name = rb->bodies()[b].name;
+        x.time = impl_->state.info.time;
+        x.position = s.x;
+        x.quaternion = s.q;
+        x.velocity = s.v;
+        x.angular_velocity = s.w;
+        x.force = s.force;
+        x.torque = s.torque;
+        x.mass = rb->bodies()[b].mass;
+        out.push_back(x);
+    }
+    return out;
+}
+
 TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     auto& m = *impl_;
     m.driver.one_process("free surfaces");
