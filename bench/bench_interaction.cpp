@@ -70,7 +70,9 @@ void cluster_counts(cl_rt::Device& d, device::ParticleStore& ps, const device::C
                 "candidates a particle)\n",
                 device::sizing::kClusterSize, 1e3 * s.median, 1e3 * s.min, 1e3 * s.max, list.capacity(),
                 double(device::sizing::cluster_begin_bytes(list.capacity()) +
-                       device::sizing::cluster_box_bytes(list.capacity()) +
+                       (device::sizing::cluster_boxes_borrowed(list.capacity(), ps.scratch.bytes())
+                            ? 0
+                            : device::sizing::cluster_box_bytes(list.capacity())) +
                        device::sizing::cluster_mask_bytes(list.capacity(), grid.rows(), grid.reach())) /
                     double(n),
                 candidates / double(n), hits / double(n), 100 * hits / candidates, 32 * steps / candidates,

@@ -54,8 +54,8 @@ __kernel void cluster_boxes(const uint cells, const uint cap, __global const uin
     if (c + 1u == cells) begin[next] = e;
 }
 
-// The lists of the i-clusters of particles [first, last): a work-item per particle, the first of
-// each cluster building its cluster's masks (ROWS per cluster).
+// The lists of the i-clusters of particles [first, last): a work-item per particle, the members of
+// a cluster sharing its ROWS masks (member l of m: rows l, l + m, ...), so that no lane idles.
 __kernel void cluster_masks(const uint first, const uint last, const GridParams g, const float support2,
                             __global const float4* pos, __global const uint* cell_of, __global const uint2* ranges,
                             __global const uint* cell_key, __global const uint* cell_start, __global const float4* boxes,
@@ -63,15 +63,15 @@ __kernel void cluster_masks(const uint first, const uint last, const GridParams 
     const uint i = first + (uint)get_global_id(0);
     if (i >= last) return;
     const uint c = cell_of[i], s = cell_start[c];
-    if ((i - s) % CS != 0u) return;
     const uint id = c + s / CS + (i - s) / CS;
+    const uint member = (i - s) % CS, members = min((uint)CS, cell_start[c + 1u] - (i - member));
     const float3 lo_i = boxes[2u * id].xyz, hi_i = boxes[2u * id + 1u].xyz;
     const uint key_i = cell_key[c];
     const uint b_i = key_b(g, key_i);
     // Round-off: the pass computes r2 from offsets and cell shifts in another order; a margin of
     // 1e-4 of the support keeps every pair it finds within the support in a listed cluster.
     const float reach2 = support2 * 1.0002f;
-    for (uint r = 0; r < ROWS; ++r) {
+    for (uint r = member; r < ROWS; r += members) {
         const uint2 range = ranges[c * ROWS + r];
         MASK_T m = 0;
         if (range.x < range.y) {

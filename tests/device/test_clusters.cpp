@@ -239,7 +239,7 @@ TEST_CASE("the clusters form: bitwise the same on 1, 2 and 3 devices, and bitwis
     REQUIRE(devs.size() >= 2);
     Scene scene = test::small_dam(0.0073);
     scene.fluids.front().velocity = {4.0, 0.0, 0.0};  // across the cuts: cells mix arrivals and stayers
-    const int steps = 40;
+    const int steps = 25;
     Options fine;
     fine.devices = test::device_spec(1);
     fine.interaction = Interaction::fine;
