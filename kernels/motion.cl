@@ -31,14 +31,33 @@ inline real3 mul_pose(__global const real* r, const real3 u) {
                      r[6] * u.x + r[7] * u.y + r[8] * u.z + r[11]);
 }
 
-// The last segment of `solid` with start <= t, or -1.
+// The last segment of `solid` with start <= t, or -1. The table is sorted by (solid, start)
+// (device/motion_table.hpp): a binary search for the last row not after (solid, t), so a motion
+// from a long CSV file costs log2 of its rows.
 inline int segment_at(const uint segments, __global const real* table, const real solid, const real t) {
-    int found = -1;
-    for (uint k = 0; k < segments; ++k) {
-        __global const real* s = table + k * SEG;
-        if (s[3] == solid && s[1] <= t) found = (int)k;
+    uint lo = 0u, hi = segments;
+    while (lo < hi) {
+        const uint mid = lo + (hi - lo) / 2u;
+        __global const real* s = table + mid * SEG;
+        if (s[3] < solid || (s[3] == solid && s[1] <= t)) lo = mid + 1u;
+        else hi = mid;
     }
-    return found;
+    if (lo == 0u || table[(lo - 1u) * SEG + 3] != solid) return -1;
+    return (int)lo - 1;
+}
+
+// A ramped segment's r(tau) sin(w tau) and its derivative, r = (1 - cos(pi tau / ramp)) / 2 over
+// the ramp, then 1 (scene/motion.cpp).
+inline real ramped_sine(__global const real* s, const real tau, real* rate) {
+    const real w = s[22], ramp = s[25];
+    const real pi = (real)3.14159265358979323846;
+    real r = (real)1, dr = (real)0;
+    if (tau < ramp) {
+        r = (real)0.5 * ((real)1 - cos(pi * tau / ramp));
+        dr = (real)0.5 * (pi / ramp) * sin(pi * tau / ramp);
+    }
+    *rate = dr * sin(w * tau) + r * w * cos(w * tau);
+    return r * sin(w * tau);
 }
 
 // r turned by theta about the unit vector n (Rodrigues).
@@ -47,11 +66,17 @@ inline real3 turn(const real3 n, const real theta, const real3 r) {
     return r * cs + cross(n, r) * sn + n * (dot(n, r) * ((real)1 - cs));
 }
 
-// A rotating segment's angle after tau, and its rate.
+// A rotating segment's angle after tau (types 2, 3, 4, 6).
 inline real angle_of(__global const real* s, const real tau) {
     const real w = s[22], phase = s[23], mag = s[24];
+    if ((int)s[0] == 6) {
+        real rate;
+        return mag * ramped_sine(s, tau, &rate);
+    }
     return (int)s[0] == 2 ? mag * (sin(w * tau + phase) - sin(phase)) : mag * tau;
 }
+
+inline bool turns(const int type) { return type == 2 || type == 3 || type == 4 || type == 6; }
 
 __kernel void move_solids(const uint first, const uint last, const GridParams g, __global const real* step_clock,
                           const uint use_clock, const real host_time, const real host_dt, const real fraction,
@@ -87,9 +112,22 @@ __kernel void move_solids(const uint first, const uint last, const GridParams g,
         } else if (type == 1) {  // sine
             u = y + vec * (sin(w * tau + phase) - sin(phase));
             if (moving) v = vec * (w * cos(w * tau + phase));
+        } else if (type == 5) {  // ramped sine (a piston wave maker)
+            real rate;
+            u = y + vec * ramped_sine(s, tau, &rate);
+            if (moving) v = vec * rate;
+        } else if (type == 4) {  // linear_rotation: about the axis through c + velocity tau
+            const real3 vel = (real3)(s[25], s[26], s[27]);
+            const real3 c = (real3)(s[19], s[20], s[21]) + vel * tau;
+            u = c + turn(vec, mag * tau, y - (real3)(s[19], s[20], s[21]));
+            if (moving) v = vel + cross(vec * mag, u - c);
         } else {  // rotations: about the unit axis vec through c
             const real3 c = (real3)(s[19], s[20], s[21]);
-            const real rate = type == 2 ? mag * w * cos(w * tau + phase) : mag;
+            real rate = type == 2 ? mag * w * cos(w * tau + phase) : mag;
+            if (type == 6) {
+                ramped_sine(s, tau, &rate);
+                rate *= mag;
+            }
             u = c + turn(vec, angle_of(s, tau), y - c);
             if (moving) v = cross(vec * rate, u - c);
         }
@@ -140,7 +178,7 @@ __kernel void turn_ghost_nodes(const uint first, const uint last, __global const
         __global const real* s = table + (uint)found * SEG;
         g = (real3)(s[4] * g.x + s[5] * g.y + s[6] * g.z, s[7] * g.x + s[8] * g.y + s[9] * g.z,
                     s[10] * g.x + s[11] * g.y + s[12] * g.z);
-        if ((int)s[0] >= 2) g = turn((real3)(s[16], s[17], s[18]), angle_of(s, fmin(t, s[2]) - s[1]), g);
+        if (turns((int)s[0])) g = turn((real3)(s[16], s[17], s[18]), angle_of(s, fmin(t, s[2]) - s[1]), g);
     }
     float4 out = g0;
     out.xyz = convert_float3(g);

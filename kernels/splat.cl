@@ -87,3 +87,23 @@ __kernel void splat_particles(const uint first, const uint count, const GridPara
             if (field_mode != 0u) atomic_add(&p_field[at], (uint)(t * (float)chord + 0.5f));
         }
 }
+
+// Another device's images (read back from it and written here) merged into this device's, pixel
+// by pixel: the nearest depth, the thicknesses and field sums added (integers: the merge is exact,
+// so the result does not depend on how the particles were split). has_field: the field sums too.
+__kernel void splat_merge(const uint pixels, const uint has_field, __global const uint* in_depth,
+                          __global const uint* in_thick, __global const uint* in_field, __global uint* depth,
+                          __global uint* thickness, __global uint* field_sum) {
+    const uint n = pixels, with_field = has_field;
+    __global const uint* const p_in_depth = in_depth;
+    __global const uint* const p_in_thick = in_thick;
+    __global const uint* const p_in_field = in_field;
+    __global uint* const p_depth = depth;
+    __global uint* const p_thick = thickness;
+    __global uint* const p_field = field_sum;
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    p_depth[i] = min(p_depth[i], p_in_depth[i]);
+    p_thick[i] += p_in_thick[i];
+    if (with_field != 0u) p_field[i] += p_in_field[i];
+}

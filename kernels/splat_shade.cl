@@ -1,6 +1,6 @@
 // Screen-space fluid rendering, after the splats (host/src/render/splat.cpp): the devices' depth
-// and thickness images composited on the host (nearest depth, summed thickness), then on one
-// device: the depth smoothed by a bilateral filter (splat_smooth, one axis per launch), normals
+// and thickness images merged on the shading device (nearest depth, summed thickness: splat_merge
+// in splat.cl), then there: the depth smoothed by a bilateral filter (splat_smooth, one axis per launch), normals
 // taken from the smoothed depth, and the water shaded (splat_shade) with Fresnel reflection of the
 // sky and the ground, refraction of what lies behind (solids, ground, sky), Beer-Lambert absorption
 // by the thickness, and a sun's highlight. A pixel a launch each; images are row-major from the top.
@@ -8,6 +8,24 @@
 #define SPLAT_EMPTY 0xffffffffu
 #include "shared.h"
 #include "colour_map.h"
+
+// The splats' sums as the filter and the shading take them: the thickness in metres (counts times
+// `unit`), and with a field (by_field) each pixel's chord-weighted mean t, field / thickness (-1
+// where no water was drawn).
+__kernel void splat_prepare(const uint pixels, const float unit, const uint by_field, __global const uint* counts,
+                            __global const uint* field_sum, __global float* thickness, __global float* field) {
+    const uint n = pixels, with_field = by_field;
+    const float u = unit;
+    __global const uint* const p_counts = counts;
+    __global const uint* const p_sum = field_sum;
+    __global float* const p_thick = thickness;
+    __global float* const p_field = field;
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const uint c = p_counts[i];
+    p_thick[i] = (float)c * u;
+    if (with_field != 0u) p_field[i] = c > 0u ? (float)p_sum[i] / (float)c : -1.0f;
+}
 
 // One pass of the bilateral filter along x (axis 0) or y (axis 1): neighbours within `world`
 // metres (in pixels at the pixel's depth, at most max_px) weighted by a Gaussian of their distance,

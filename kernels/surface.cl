@@ -126,44 +126,40 @@ void surface_field(const uint blocks, const float spacing, const uint col_lo, co
                    __global const int4* block_at, __global const uint* cell_key,
                    __global const uint* cell_start, __global const float4* pos,
                    __global const float4* velrho, __global const uint* ids, __global float* field) {
+    // Staged particles: position relative to the block's first sample (x0), and volume m / rho.
     __local float4 stage_pos[SURFACE_WG];
-    __local float stage_v[SURFACE_WG];
     __local uint row[2];
     const uint b = get_group_id(0), lid = get_local_id(0);
     const float mass = sp.mass, support2 = sp.support2, support = sqrt(sp.support2);
     if (b >= blocks) return;  // whole groups only: the barriers below stay uniform
     const int4 at = block_at[b];
-    // This item's samples: where they are (offset + key, as particles are), 0 where not sampled.
-    float4 q[SURFACE_PER_ITEM];
-    uint qkey[SURFACE_PER_ITEM];
+    const float3 x0 = spacing * (float3)((float)at.x, (float)at.y, (float)at.z);
+    const float3 x1 = x0 + spacing * (float)SURFACE_CUBES;
+    // Axis a wraps where periodic: a particle is staged at its image nearest the block's centre.
+    const float period_a = (float)g.n_a * g.cell_a, centre_a = A_OF(x0) + 0.5f * spacing * (float)SURFACE_CUBES;
+    // This item's samples, relative to x0 (a sample's distance to a staged particle is then one
+    // subtraction per axis: no cell keys decoded in the inner loop); live: inside the domain and
+    // in the columns this device owns.
+    float3 q[SURFACE_PER_ITEM];
     float sum[SURFACE_PER_ITEM];
     bool live[SURFACE_PER_ITEM];
     for (uint k = 0; k < SURFACE_PER_ITEM; ++k) {
         const uint p = lid + k * SURFACE_WG;
         sum[k] = 0.0f;
         live[k] = false;
-        qkey[k] = g.invalid_key;
-        q[k] = (float4)(0.0f);
+        q[k] = (float3)(0.0f);
         if (p >= SURFACE_PER_BLOCK) continue;
-        const float3 x = spacing * (float3)((float)(at.x + (int)(p % SURFACE_SAMPLES)),
-                                            (float)(at.y + (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES)),
-                                            (float)(at.z + (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES))));
+        const int3 local_at = (int3)((int)(p % SURFACE_SAMPLES), (int)((p / SURFACE_SAMPLES) % SURFACE_SAMPLES),
+                                     (int)(p / (SURFACE_SAMPLES * SURFACE_SAMPLES)));
+        const float3 x = spacing * (float3)((float)(at.x + local_at.x), (float)(at.y + local_at.y), (float)(at.z + local_at.z));
+        q[k] = spacing * convert_float3(local_at);
         uint s, a, bb;
         float os, oa, ob;
-        if (locate_axis(S_OF(x), g.cell_s, g.n_s, 0u, &s, &os) && s >= col_lo && s < col_hi &&
-            locate_axis(A_OF(x), g.cell_a, g.n_a, g.periodic_a, &a, &oa) &&
-            locate_axis(B_OF(x), g.cell_b, g.n_b, 0u, &bb, &ob)) {
-            S_OF(q[k]) = os;
-            A_OF(q[k]) = oa;
-            B_OF(q[k]) = ob;
-            qkey[k] = make_key(g, s, a, bb);
-            q[k].w = as_float(qkey[k]);
-            live[k] = true;
-        }
+        live[k] = locate_axis(S_OF(x), g.cell_s, g.n_s, 0u, &s, &os) && s >= col_lo && s < col_hi &&
+                  locate_axis(A_OF(x), g.cell_a, g.n_a, g.periodic_a, &a, &oa) &&
+                  locate_axis(B_OF(x), g.cell_b, g.n_b, 0u, &bb, &ob);
     }
     // The block's rows: cells within the support of its samples' box.
-    const float3 x0 = spacing * (float3)((float)at.x, (float)at.y, (float)at.z);
-    const float3 x1 = x0 + spacing * (float)SURFACE_CUBES;
     int s_lo, s_hi, a_lo, a_hi, b_lo, b_hi;
     cell_span(S_OF(x0), S_OF(x1), support, g.cell_s, g.n_s, 0u, &s_lo, &s_hi);
     cell_span(A_OF(x0), A_OF(x1), support, g.cell_a, g.n_a, g.periodic_a, &a_lo, &a_hi);
@@ -186,8 +182,13 @@ void surface_field(const uint blocks, const float spacing, const uint col_lo, co
             for (uint first = begin; first < end; first += SURFACE_WG) {
                 const uint j = first + lid;
                 if (j < end) {
-                    stage_pos[lid] = pos[j];
-                    stage_v[lid] = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? mass / velrho[j].w : 0.0f;
+                    float3 r = relative_of(g, pos[j]);
+                    if (g.periodic_a) {
+                        const float da = A_OF(r) - centre_a;
+                        A_OF(r) = centre_a + (da - period_a * rint(da / period_a));
+                    }
+                    const float v = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID ? mass / velrho[j].w : 0.0f;
+                    stage_pos[lid] = (float4)(r - x0, v);
                 }
                 barrier(CLK_LOCAL_MEM_FENCE);
                 const uint n = min((uint)SURFACE_WG, end - first);
@@ -195,9 +196,9 @@ void surface_field(const uint blocks, const float spacing, const uint col_lo, co
                     if (!live[k]) continue;
                     for (uint t = 0; t < n; ++t) {
                         const float4 pj = stage_pos[t];
-                        const float3 d = relative_position(g, qkey[k], q[k], pos_key(pj), pj);
+                        const float3 d = pj.xyz - q[k];
                         const float r2 = dot(d, d);
-                        if (r2 < support2) sum[k] += stage_v[t] * kernel_w(&sp, sqrt(r2));
+                        if (r2 < support2) sum[k] += pj.w * kernel_w(&sp, sqrt(r2));
                     }
                 }
                 barrier(CLK_LOCAL_MEM_FENCE);

@@ -126,6 +126,19 @@ int dry_run(const Scene& scene, const RunArgs& args, const RunPlan& plan) {
                   "  physics: dp %g m, h %g m, c0 %.4g m/s; acoustic step cfl h / c0 = %.3g s%s\n", ph.dp, ph.h(), c0,
                   dt_acoustic, scene.run.fixed_dt > 0 ? " (the scene fixes dt instead)" : "");
     std::cout << text;
+    // Wave makers: what first-order theory made of the waves asked for (docs/scenes.md, wave makers).
+    auto wave_maker = [&](const Motion& m, const std::string& key) {
+        if (!m.wave_maker) return;
+        const WaveMaker& w = *m.wave_maker;
+        std::snprintf(text, sizeof text,
+                      "  wave maker %s: %s, H %g m, T %g s, d %g m: kd %.4g, wavelength %.4g m, stroke %.4g m (H/S %.4g), ramp %g s\n",
+                      key.c_str(), w.kind == WaveMaker::Kind::flap ? "flap" : "piston", w.height, w.period, w.depth, w.k * w.depth,
+                      w.wavelength, w.stroke, w.height / w.stroke, w.ramp);
+        std::cout << text;
+    };
+    for (std::size_t i = 0; i < scene.walls.size(); ++i) wave_maker(scene.walls[i].motion, "boundaries.walls[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < scene.solids.size(); ++i) wave_maker(scene.solids[i].motion, "boundaries.boxes[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) wave_maker(scene.meshes[i].motion, "boundaries.meshes[" + std::to_string(i) + "]");
     const double dt_max = scene.run.fixed_dt > 0 ? scene.run.fixed_dt : dt_acoustic;
 
     // Output: frames, stats rows and probe rows, at the largest step the CFL condition allows.

@@ -57,7 +57,8 @@ Scene paddle_tank(Type type, std::mt19937_64& rng) {
 }
 
 const char* type_name(Type t) {
-    return t == Type::linear ? "linear" : t == Type::sine ? "sine" : t == Type::sine_rotation ? "sine_rotation" : "rotation";
+    static const char* names[] = {"linear", "sine", "sine_rotation", "rotation", "linear_rotation", "ramped_sine", "ramped_sine_rotation"};
+    return names[static_cast<int>(t)];
 }
 
 // Particles by id.
@@ -233,82 +234,92 @@ TEST_CASE("mDBC: a flap in the water moves as its formula, bitwise the same on 1
 }
 
 TEST_CASE("mDBC: a turned solid's ghost nodes turn with it: its densities as plain C++ has them") {
-    // A box turned 0.7 rad about a skew axis through its centre, in random fluid around it.
-    Scene s;
-    s.physics.dp = 0.02;
-    s.physics.c0 = 20.0;
-    s.boundary_method = BoundaryMethod::mdbc;
-    s.domain.min = {-0.1, -0.1, -0.1};
-    s.domain.max = {0.4, 0.3, 0.3};
-    SolidBox b;
-    b.min = {0.1, 0.04, 0.04};
-    b.max = {0.2, 0.16, 0.16};
-    MotionSegment m;
-    m.type = Type::rotation;
-    m.start = 0;
-    m.end = 10;
-    m.axis_point = {0.15, 0.1, 0.1};
-    m.axis = {0.3, 1, 0.5};
-    m.angular_velocity = 1.0;
-    b.motion.segments.push_back(m);
-    s.solids.push_back(b);
-    FluidBlock f;
-    f.min = {0.3, 0.2, 0.2};
-    f.max = {0.34, 0.24, 0.24};
-    s.fluids.push_back(f);
-    s.validate();
-    const double t = 0.7;
-    const device::Grid grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), 0, {false, false, false},
-                            device::reach_for(s.physics.support(), s.physics.dp));
-    const Particles built = s.build_particles();
-    Particles p;
-    for (std::size_t i = 0; i < built.size(); ++i)
-        if (built.type[i] == ParticleType::boundary)
-            p.push_back(built.id[i], built.type[i], built.position[i], {0, 0, 0}, 1000.0f, 0.0f);
-    const std::size_t nb = p.size();
-    const auto offsets = scene::ghost_node_offsets(s, p);
-    std::vector<std::array<float, 3>> by_id(nb);
-    for (std::size_t i = 0; i < nb; ++i) by_id[p.id[i]] = offsets[i];
-    auto gen = test::rng(71);
-    std::uniform_real_distribution<double> ux(0.02, 0.28), uyz(-0.04, 0.24), rho(990.0, 1010.0);
-    for (int k = 0; k < 4000; ++k)
-        p.push_back(static_cast<std::uint32_t>(p.size()), ParticleType::fluid, {ux(gen), uyz(gen), uyz(gen)}, {0, 0, 0},
-                    static_cast<float>(rho(gen)), 0.0f);
-    const scene::RigidPose pose = scene::motion_pose(s.solids[0].motion, t);
-    for (auto* d : test::devices()) {
-        CAPTURE(d->label());
-        device::Physics phys(*d, grid, s);
-        phys.set_motion(device::motion_table(s, grid));
-        phys.set_ghost_nodes(by_id);
-        device::CellPipeline cells(*d, grid);
-        device::ParticleStore ps(*d, grid, p.size());
-        ps.upload(p);
-        cells.run(ps);
-        phys.move_solids(ps, t, 0.0, 1.0);
-        cells.run(ps);
-        phys.boundary_densities(ps, cells);
-        const Particles got = ps.download();
-        REQUIRE(got.size() == p.size());
-        std::size_t wrong = 0, unturned_differs = 0, with_fluid = 0;
-        for (std::size_t i = 0; i < got.size(); ++i) {
-            if (got.type[i] != ParticleType::boundary) continue;
-            const auto& g0 = by_id[got.id[i]];
-            const Vec3 turned = scene::RigidPose{pose.R, {0, 0, 0}}.apply({g0[0], g0[1], g0[2]});
-            const std::array<float, 3> mirror{static_cast<float>(turned[0]), static_cast<float>(turned[1]), static_cast<float>(turned[2])};
-            const auto ref = test::reference_density(p, s, phys.params(), got.position[i], mirror);
-            if (ref.det != 0 && std::abs(std::abs(ref.det) - CLSPH_MDBC_DET) < 0.02 * CLSPH_MDBC_DET) continue;
-            const auto stale = test::reference_density(p, s, phys.params(), got.position[i], g0);
-            with_fluid += ref.det != 0;
-            unturned_differs += std::abs(stale.rho - ref.rho) > 0.5;
-            const bool ok = std::abs(got.density[i] - ref.rho) <= 0.05;
-            if (!ok && wrong < 5) MESSAGE("boundary id " << got.id[i] << ": device " << got.density[i] << ", CPU " << ref.rho);
-            wrong += !ok;
+    // A box turned 0.7 rad about a skew axis through its centre, in random fluid around it; and the
+    // same turn with the axis moving (linear_rotation, a CSV interval) and ramped (a flap wave maker).
+    for (Type type : {Type::rotation, Type::linear_rotation, Type::ramped_sine_rotation}) {
+        const std::string name = type_name(type);
+        CAPTURE(name);
+        Scene s;
+        s.physics.dp = 0.02;
+        s.physics.c0 = 20.0;
+        s.boundary_method = BoundaryMethod::mdbc;
+        s.domain.min = {-0.1, -0.1, -0.1};
+        s.domain.max = {0.4, 0.3, 0.3};
+        SolidBox b;
+        b.min = {0.1, 0.04, 0.04};
+        b.max = {0.2, 0.16, 0.16};
+        MotionSegment m;
+        m.type = Type::rotation;
+        m.start = 0;
+        m.end = 10;
+        m.axis_point = {0.15, 0.1, 0.1};
+        m.axis = {0.3, 1, 0.5};
+        m.angular_velocity = 1.0;
+        if (type != Type::rotation) {
+            m.type = type;
+            m.velocity = {0.01, -0.005, 0.004};  // linear_rotation: the axis drifts a little
+            m.period = 4.0, m.ramp = 0.3, m.angle = 0.9;  // ramped: 0.9 sin(2 pi 0.7 / 4) = 0.80 rad at t = 0.7
         }
-        MESSAGE(nb << " boundary particles, " << with_fluid << " with fluid at their ghost node; " << unturned_differs
-                   << " would differ by > 0.5 kg/m^3 with the offsets at rest");
-        CHECK(wrong == 0);
-        CHECK(with_fluid > 0);
-        CHECK(unturned_differs > 0);  // the test tells turned from unturned offsets
+        b.motion.segments.push_back(m);
+        s.solids.push_back(b);
+        FluidBlock f;
+        f.min = {0.3, 0.2, 0.2};
+        f.max = {0.34, 0.24, 0.24};
+        s.fluids.push_back(f);
+        s.validate();
+        const double t = 0.7;
+        const device::Grid grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), 0, {false, false, false},
+                                device::reach_for(s.physics.support(), s.physics.dp));
+        const Particles built = s.build_particles();
+        Particles p;
+        for (std::size_t i = 0; i < built.size(); ++i)
+            if (built.type[i] == ParticleType::boundary)
+                p.push_back(built.id[i], built.type[i], built.position[i], {0, 0, 0}, 1000.0f, 0.0f);
+        const std::size_t nb = p.size();
+        const auto offsets = scene::ghost_node_offsets(s, p);
+        std::vector<std::array<float, 3>> by_id(nb);
+        for (std::size_t i = 0; i < nb; ++i) by_id[p.id[i]] = offsets[i];
+        auto gen = test::rng(71);
+        std::uniform_real_distribution<double> ux(0.02, 0.28), uyz(-0.04, 0.24), rho(990.0, 1010.0);
+        for (int k = 0; k < 4000; ++k)
+            p.push_back(static_cast<std::uint32_t>(p.size()), ParticleType::fluid, {ux(gen), uyz(gen), uyz(gen)}, {0, 0, 0},
+                        static_cast<float>(rho(gen)), 0.0f);
+        const scene::RigidPose pose = scene::motion_pose(s.solids[0].motion, t);
+        for (auto* d : test::devices()) {
+            CAPTURE(d->label());
+            device::Physics phys(*d, grid, s);
+            phys.set_motion(device::motion_table(s, grid));
+            phys.set_ghost_nodes(by_id);
+            device::CellPipeline cells(*d, grid);
+            device::ParticleStore ps(*d, grid, p.size());
+            ps.upload(p);
+            cells.run(ps);
+            phys.move_solids(ps, t, 0.0, 1.0);
+            cells.run(ps);
+            phys.boundary_densities(ps, cells);
+            const Particles got = ps.download();
+            REQUIRE(got.size() == p.size());
+            std::size_t wrong = 0, unturned_differs = 0, with_fluid = 0;
+            for (std::size_t i = 0; i < got.size(); ++i) {
+                if (got.type[i] != ParticleType::boundary) continue;
+                const auto& g0 = by_id[got.id[i]];
+                const Vec3 turned = scene::RigidPose{pose.R, {0, 0, 0}}.apply({g0[0], g0[1], g0[2]});
+                const std::array<float, 3> mirror{static_cast<float>(turned[0]), static_cast<float>(turned[1]), static_cast<float>(turned[2])};
+                const auto ref = test::reference_density(p, s, phys.params(), got.position[i], mirror);
+                if (ref.det != 0 && std::abs(std::abs(ref.det) - CLSPH_MDBC_DET) < 0.02 * CLSPH_MDBC_DET) continue;
+                const auto stale = test::reference_density(p, s, phys.params(), got.position[i], g0);
+                with_fluid += ref.det != 0;
+                unturned_differs += std::abs(stale.rho - ref.rho) > 0.5;
+                const bool ok = std::abs(got.density[i] - ref.rho) <= 0.05;
+                if (!ok && wrong < 5) MESSAGE("boundary id " << got.id[i] << ": device " << got.density[i] << ", CPU " << ref.rho);
+                wrong += !ok;
+            }
+            MESSAGE(nb << " boundary particles, " << with_fluid << " with fluid at their ghost node; " << unturned_differs
+                       << " would differ by > 0.5 kg/m^3 with the offsets at rest");
+            CHECK(wrong == 0);
+            CHECK(with_fluid > 0);
+            CHECK(unturned_differs > 0);  // the test tells turned from unturned offsets
+        }
     }
 }
 

@@ -177,6 +177,7 @@ TEST_CASE("the same scene rendered on one device and on three gives the same ima
     s.solids.push_back(obstacle);
     s.render.width = 400;
     s.render.height = 300;
+    s.render.surface_spacing = 0.5 * s.physics.dp;  // image() samples the surface as surface() does
     auto image_on = [&](std::size_t count) {
         Options o;
         o.devices = test::device_spec(count);
@@ -191,6 +192,10 @@ TEST_CASE("the same scene rendered on one device and on three gives the same ima
         // each device's own (its normal from its block's one-sided differences), so a few pixels
         // along the cuts shade differently.
         MESSAGE(count << " devices: " << apart << " bytes differ between render(surface()) and image()");
+        if (const char* dir = std::getenv("CLSPH_TEST_IMAGES")) {
+            write_png(std::string(dir) + "/from_mesh_" + std::to_string(count) + ".png", from_mesh);
+            write_png(std::string(dir) + "/direct_" + std::to_string(count) + ".png", direct);
+        }
         CHECK(apart <= (count == 1 ? 0u : direct.rgb.size() / 3 / 1000));
         return from_mesh;
     };

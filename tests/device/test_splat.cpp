@@ -129,6 +129,41 @@ TEST_CASE("a ball of particles splats a disc of its projected area, its volume i
     }
 }
 
+TEST_CASE("a run's images reuse their buffers: a frame of another size between two frames changes neither") {
+    // The splat pass, the shading and the solids' image keep their buffers from frame to frame
+    // (render/frame_cache.hpp): what one frame left there must not show in the next, and a frame
+    // of another size must be what a fresh run draws at that size.
+    Scene s = test::small_tank(0.1, 0.2);
+    SolidBox obstacle;
+    obstacle.min = {0.2, 0.03, 0};
+    obstacle.max = {0.24, 0.07, 0.04};
+    s.solids.push_back(obstacle);
+    s.render.method = RenderMethod::splat;
+    CameraView big = camera_for(s), small = big;
+    big.width = 240;
+    big.height = 160;
+    small.width = 120;
+    small.height = 90;
+    // One device, and two where there are two (the second's image merged into the first's buffers).
+    for (std::size_t count = 1; count <= std::min<std::size_t>(2, test::devices().size()); ++count) {
+        Options o;
+        o.devices = test::device_spec(count);
+        CAPTURE(o.devices);
+        Simulation sim(s, o), fresh(s, o);
+        for (int i = 0; i < 5; ++i) {
+            sim.step();
+            fresh.step();
+        }
+        const Image first = sim.image(big);
+        const Image between = sim.image(small);
+        const Image again = sim.image(big);
+        const Image small_fresh = fresh.image(small);
+        CHECK(first.rgb == again.rgb);
+        CHECK(between.rgb == small_fresh.rgb);
+        CHECK(between.rgb.size() == std::size_t{3} * small.width * small.height);
+    }
+}
+
 TEST_CASE("nothing to splat leaves both images empty; a bad render.method names the key") {
     const device::Grid grid(device::Box{{0, 0, 0}, {1, 1, 1}}, 0.1);
     CameraView cam;

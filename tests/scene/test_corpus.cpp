@@ -23,6 +23,7 @@ const std::vector<Case> corpus_cases = {
     {"render_up_zero.json", "render.camera.up: must not be the zero vector"},
     {"render_eye_at_target.json", "render.camera.eye: is at the target"},
     {"render_size_zero.json", "render.size: width and height must be positive"},
+    {"render_surface_spacing_negative.json", "render.surface_spacing: must be a length in metres"},
     {"render_method_bad.json", "render.method: unknown value \"raytrace\" (expected one of \"surface\", \"splat\")"},
     {"render_up_along_view.json", "render.camera.up: must not point along the view direction"},
     {"whitespace_only.json", "the file is empty"},
@@ -78,6 +79,9 @@ const std::vector<Case> corpus_cases = {
     {"motion_axis_zero.json", "boundaries.boxes[0].motion.segments[0].axis: must not be the zero vector"},
     {"motion_period_zero.json", "boundaries.boxes[0].motion.segments[0].period: must be a finite time > 0 s"},
     {"motion_end_before_start.json", "boundaries.boxes[0].motion.segments[0].end: must be after start"},
+    {"wave_maker_too_steep.json", "boundaries.boxes[0].motion.wave_maker.height: waves of height 0.3 m and length"},
+    {"wave_maker_depth_zero.json", "boundaries.boxes[0].motion.wave_maker.depth: must be a water depth > 0 m, got 0"},
+    {"motion_csv_missing.json", "/no_such_motion.csv: cannot open the motion file (No such file or directory)"},
     // Accepted silently before (issue 14): nonsense the scene check now names.
     {"coefsound_negative.json", "physics.coefsound: must be a positive number"},
     {"dp_larger_than_block.json", "fluid[0]: holds no fluid particle: no point of the dp lattice (dp = 0.02 m) lies in the block"},

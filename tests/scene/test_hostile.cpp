@@ -41,6 +41,14 @@ struct Mistake {
 
 const double nan = std::numeric_limits<double>::quiet_NaN();
 
+// A boundary mesh read from `path`, the other keys at their defaults.
+clsph::MeshObject mesh_file(const std::string& path, double scale) {
+    clsph::MeshObject m;
+    m.path = path;
+    m.scale = scale;
+    return m;
+}
+
 // Mistakes JSON can carry: both paths must give the same message.
 const std::vector<Mistake> both_paths = {
     {"negative coefsound", [](clsph::Scene& s) { s.physics.coefsound = -1; }, "physics.coefsound: must be a positive number"},
@@ -62,8 +70,8 @@ const std::vector<Mistake> both_paths = {
     {"a probe outside", [](clsph::Scene& s) { s.probes[0].point = {5, 0, 0}; }, "probes[0].point: is outside the domain"},
     {"a sensor facing nowhere", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{0, 0, 0}; }, "probes[0].normal: must not be the zero vector"},
     {"a sensor of no size", [](clsph::Scene& s) { s.probes[0].normal = clsph::Vec3{1, 0, 0}, s.probes[0].size = 0; }, "probes[0].size: must be the sensor's diameter"},
-    {"a missing mesh", [](clsph::Scene& s) { s.meshes.push_back({"/no/such/mesh.obj", 1.0, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/no/such/mesh.obj\": No such file or directory"},
-    {"a mesh that is a device", [](clsph::Scene& s) { s.meshes.push_back({"/dev/zero", 1.0, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
+    {"a missing mesh", [](clsph::Scene& s) { s.meshes.push_back(mesh_file("/no/such/mesh.obj", 1.0)); }, "boundaries.meshes[0].path: cannot read \"/no/such/mesh.obj\": No such file or directory"},
+    {"a mesh that is a device", [](clsph::Scene& s) { s.meshes.push_back(mesh_file("/dev/zero", 1.0)); }, "boundaries.meshes[0].path: cannot read \"/dev/zero\": it is not a regular file"},
 };
 
 // NaN has no JSON spelling (it is written as null): only the C++ path can carry it, and it must be
@@ -84,7 +92,7 @@ const std::vector<Mistake> cpp_only = {
     {"NaN fixed dt", [](clsph::Scene& s) { s.run.fixed_dt = nan; }, "run.fixed_dt: must be a finite time >= 0 s"},
     // JSON spells only the two names (an unknown one: tests/scene/corpus/render_method_bad.json).
     {"a render method out of range", [](clsph::Scene& s) { s.render.method = static_cast<clsph::RenderMethod>(7); }, "render.method: must be \"surface\" or \"splat\""},
-    {"a mesh path that is /dev/null", [](clsph::Scene& s) { s.meshes.push_back({"/dev/null", nan, {0, 0, 0}, false, 3, {}}); }, "boundaries.meshes[0].path: cannot read \"/dev/null\": it is not a regular file"},
+    {"a mesh path that is /dev/null", [](clsph::Scene& s) { s.meshes.push_back(mesh_file("/dev/null", nan)); }, "boundaries.meshes[0].path: cannot read \"/dev/null\": it is not a regular file"},
 };
 
 }  // namespace

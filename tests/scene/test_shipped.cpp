@@ -105,6 +105,24 @@ TEST_CASE("piston: a flume whose x- end is a moving box, no particle twice") {
     CHECK(c.coincident == 0);
 }
 
+TEST_CASE("wave_flume: a piston wave maker 12 m from the far wall, kd about 1, no particle twice") {
+    const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/wave_flume.json"));
+    REQUIRE(s.solids.size() == 1);
+    REQUIRE(s.solids[0].motion.wave_maker);
+    const auto& w = *s.solids[0].motion.wave_maker;
+    MESSAGE("kd " << w.k * w.depth << ", wavelength " << w.wavelength << " m, stroke " << w.stroke << " m");
+    CHECK(w.k * w.depth == doctest::Approx(1.0).epsilon(0.05));
+    CHECK(s.probes.size() == 2);
+    CHECK(s.probes[1].point[0] > 2 * w.wavelength);  // the far gauge a few wavelengths out
+    // Waves leave at the group speed; what the far wall reflects is back at the far gauge after the run.
+    const double kd = w.k * w.depth, cg = 0.5 * w.wavelength / w.period * (1 + 2 * kd / std::sinh(2 * kd));
+    CHECK((2 * 12.0 - s.probes[1].point[0]) / cg > s.run.end_time);
+    const Counts c = build_and_check(s);
+    // x: 0.04 ... 11.99, z: dp ... 0.5, y: 13 lattice lines.
+    CHECK(c.fluid == 1196 * 50 * 13);
+    CHECK(c.coincident == 0);
+}
+
 TEST_CASE("spheric2: the benchmark case, built at a coarser dp through an override") {
     const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/spheric2.json"));
     CHECK(s.physics.dp == 0.006);

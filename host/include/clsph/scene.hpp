@@ -69,8 +69,14 @@ struct FluidBlock {
 //   sine_rotation   about the axis through axis_point along axis, by the angle
 //                   angle (sin(w tau + phase) - sin(phase))  (radians; a flap, a sloshing tank)
 //   rotation        about the axis, by the angle angular_velocity tau  (rad/s, right-handed)
+//   linear_rotation both at once: x += velocity tau, and about the axis through
+//                   axis_point + velocity tau (the axis moves with the solid) by angular_velocity tau
+//                   (a CSV motion's interval between two rows)
+//   ramped_sine     x += amplitude r(tau) sin(w tau)  (a piston wave maker)
+//   ramped_sine_rotation about the axis by the angle angle r(tau) sin(w tau)  (a flap wave maker)
+//                   with the ramp r(tau) = (1 - cos(pi tau / ramp)) / 2 for tau < ramp, else 1
 struct MotionSegment {
-    enum class Type { linear, sine, sine_rotation, rotation } type = Type::linear;
+    enum class Type { linear, sine, sine_rotation, rotation, linear_rotation, ramped_sine, ramped_sine_rotation } type = Type::linear;
     double start = 0, end = 0;        // s
     Vec3 velocity{0, 0, 0};           // linear (m/s)
     Vec3 amplitude{0, 0, 0};          // sine (m)
@@ -78,10 +84,27 @@ struct MotionSegment {
     Vec3 axis_point{0, 0, 0};         // sine_rotation, rotation (m)
     Vec3 axis{0, 0, 1};               // the rotation axis' direction (any non-zero length)
     double angle = 0;                 // sine_rotation's amplitude (rad)
-    double angular_velocity = 0;      // rotation (rad/s)
+    double angular_velocity = 0;      // rotation, linear_rotation (rad/s)
+    double ramp = 0;                  // ramped_sine, ramped_sine_rotation: the ramp-up's length (s, 0: none)
 };
+
+// A regular-wave maker (docs/scenes.md, motion.wave_maker): first-order wave-maker theory
+// (Biesel's transfer functions) gives the stroke that makes waves of `height` and `period` in
+// water of `depth`; the solid moves as one ramped segment. The last three are computed.
+struct WaveMaker {
+    enum class Kind { piston, flap } kind = Kind::piston;
+    double height = 0, period = 1, depth = 0;  // m, s, m
+    double ramp = 0;                           // s of ramp-up (the amplitude rises smoothly from 0)
+    double start = 0, end = 0;                 // s
+    Vec3 direction{1, 0, 0};                   // the waves' direction (horizontal)
+    Vec3 hinge{0, 0, 0};                       // flap: a point on its hinge line
+    double hinge_height = 0;                   // flap: the hinge's height above the bed (m, in [0, depth))
+    double k = 0, wavelength = 0, stroke = 0;  // computed: wave number (1/m), wavelength (m), stroke (m)
+};
+
 struct Motion {
     std::vector<MotionSegment> segments;  // empty: the solid does not move
+    std::optional<WaveMaker> wave_maker;  // set: segments is its one segment
     bool moves() const { return !segments.empty(); }
 };
 
@@ -147,6 +170,9 @@ struct RenderSettings {
     Vec3 eye{0, 0, 0}, target{0, 0, 0}, up{0, 0, 1};
     double fov_deg = 40.0;
     std::uint32_t width = 1280, height = 720;
+    // The method "surface": the free surface's sample spacing in an image, m; 0: as fine as a pixel
+    // at the camera's target but no finer than dp / 2 (finer triangles than pixels cost and do not show).
+    double surface_spacing = 0.0;
 };
 
 struct Scene {

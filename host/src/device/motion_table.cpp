@@ -35,9 +35,12 @@ MotionTable motion_table(const Scene& scene, const Grid& grid) {
             row[3] = static_cast<double>(s);
             for (int k = 0; k < 9; ++k) row[4 + k] = poses[i].R[static_cast<std::size_t>(k)];
             for (int k = 0; k < 3; ++k) row[13 + k] = poses[i].T[static_cast<std::size_t>(k)];
+            using Type = MotionSegment::Type;
+            const bool turns = seg.type == Type::sine_rotation || seg.type == Type::rotation || seg.type == Type::linear_rotation ||
+                               seg.type == Type::ramped_sine_rotation;
             Vec3 v = seg.velocity;
-            if (seg.type == MotionSegment::Type::sine) v = seg.amplitude;
-            if (seg.type == MotionSegment::Type::sine_rotation || seg.type == MotionSegment::Type::rotation) {
+            if (seg.type == Type::sine || seg.type == Type::ramped_sine) v = seg.amplitude;
+            if (turns) {
                 const double l = std::sqrt(seg.axis[0] * seg.axis[0] + seg.axis[1] * seg.axis[1] + seg.axis[2] * seg.axis[2]);
                 v = {seg.axis[0] / l, seg.axis[1] / l, seg.axis[2] / l};
             }
@@ -45,7 +48,10 @@ MotionTable motion_table(const Scene& scene, const Grid& grid) {
             for (int k = 0; k < 3; ++k) row[19 + k] = seg.axis_point[static_cast<std::size_t>(k)];
             row[22] = two_pi / seg.period;
             row[23] = seg.phase;
-            row[24] = seg.type == MotionSegment::Type::rotation ? seg.angular_velocity : seg.angle;
+            row[24] = seg.type == Type::rotation || seg.type == Type::linear_rotation ? seg.angular_velocity : seg.angle;
+            if (seg.type == Type::linear_rotation)
+                for (int k = 0; k < 3; ++k) row[25 + k] = seg.velocity[static_cast<std::size_t>(k)];
+            if (seg.type == Type::ramped_sine || seg.type == Type::ramped_sine_rotation) row[25] = seg.ramp;
             t.segments.insert(t.segments.end(), row, row + MotionTable::kSegmentDoubles);
         }
     }

@@ -16,8 +16,10 @@ namespace clsph::device {
 struct MotionTable {
     // Doubles per segment: type, start, end, solid, the start pose's R (9, row-major) and T (3),
     // the segment's vector (velocity, amplitude or the unit axis), its axis point, omega =
-    // 2 pi / period, phase, and the angle amplitude or the angular velocity; all positions relative
-    // to the solid's reference point.
+    // 2 pi / period, phase, and the angle amplitude or the angular velocity; then the
+    // linear_rotation's velocity (3) or a ramped segment's ramp time; all positions relative to the
+    // solid's reference point. The segments of a solid are consecutive and in increasing start,
+    // the solids in increasing index: the kernel finds a segment by binary search.
     static constexpr std::size_t kSegmentDoubles = 28;
     std::vector<double> segments;
     std::vector<float> rest;    // per boundary id: offset x, y, z, key bits

@@ -105,7 +105,8 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     const std::string ext = device.cl_device().getInfo<CL_DEVICE_EXTENSIONS>();
     has_clock_ = ext.find("cl_khr_fp64") != std::string::npos;
     if (has_clock_) {
-        end_k_ = device.kernel("step_clock.cl", "end_step", "");
+        clock_wg_ = device.work_group_size(64);  // one work-group stages the kick's partials (step_clock.cl)
+        end_k_ = device.kernel("step_clock.cl", "end_step", "-DCLOCK_WG=" + std::to_string(clock_wg_));
         clock_ = device.alloc(sizing::kClockDoubles * sizeof(double), "step clock");
         device.fill(bad_, cl_uint{0xffffffffu}, 1);
     }
@@ -289,7 +290,7 @@ void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cell
              &halt_, &record_})
         end_k_.setArg(i++, b->get());
     end_k_.setArg(i++, cl_rt::checked_uint(slot));
-    device_.launch("clock.end", end_k_, 1, 1);
+    device_.launch("clock.end", end_k_, clock_wg_, clock_wg_);
     // The record comes back on the transfer queue, after a marker: the compute queue goes on with
     // the next step instead of waiting for the copy (each slot has its own record on the device,
     // which the host reads before it enqueues the step that writes that slot again).

@@ -144,6 +144,7 @@ private:
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;
     cl::Kernel end_k_, probe_counted_k_;
+    std::size_t clock_wg_ = 1;  // the clock kernel's work-group
     cl_rt::Buffer fixed_in_, fixed_out_;
     std::size_t fixed_points_ = 0;
     std::vector<float> probe_query(const std::vector<std::array<double, 3>>& points) const;

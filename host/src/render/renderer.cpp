@@ -87,6 +87,11 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<Layer>& la
 }
 
 DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
+    const RenderTarget t = render(camera, layers);
+    return read_depth_image(device_, *t.depth, *t.colour, t.width, t.height);
+}
+
+RenderTarget Renderer::render(const CameraView& camera, const std::vector<DeviceLayer>& layers) {
     const CameraBasis b = camera_basis(camera);
     KernelCamera kc{};
     kc.eye = float4_of(b.eye);
@@ -101,8 +106,10 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
     const cl_float4 view{{kc.scale, kc.cx, kc.cy, 0.0f}};
     const cl_uint2 size{{camera.width, camera.height}};
     const std::size_t pixels = std::size_t{camera.width} * camera.height;
-    auto depth = device_.alloc(pixels * sizeof(cl_uint), "render depth");
-    auto colour = device_.alloc(pixels * sizeof(cl_uint), "render colour");
+    keep_buffer(device_, depth_, pixels * sizeof(cl_uint), "render depth");
+    keep_buffer(device_, colour_, pixels * sizeof(cl_uint), "render colour");
+    auto& depth = depth_;
+    auto& colour = colour_;
     device_.fill(depth, cl_uint(0xffffffffu), pixels);
     device_.fill(colour, cl_uint(0), pixels);
     for (const auto& u : layers) {
@@ -124,7 +131,13 @@ DepthImage Renderer::draw(const CameraView& camera, const std::vector<DeviceLaye
                         *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }
-    return read_depth_image(device_, depth, colour, camera.width, camera.height);
+    return {&depth_, &colour_, camera.width, camera.height};
+}
+
+void keep_buffer(cl_rt::Device& device, cl_rt::Buffer& b, std::size_t bytes, const char* what) {
+    if (b.bytes() >= bytes) return;
+    b = {};
+    b = device.alloc(bytes, what);
 }
 
 cl_float4 float4_of(const std::array<double, 3>& v, double w) {
@@ -158,10 +171,9 @@ DepthImage composite(const std::vector<DepthImage>& images) {
     return out;
 }
 
-void draw_lines(DepthImage& im, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
-                std::array<std::uint8_t, 3> rgb) {
+std::vector<LinePixel> line_pixels(const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines) {
     const CameraBasis b = camera_basis(camera);
-    const std::uint32_t packed = rgb[0] | (std::uint32_t{rgb[1]} << 8) | (std::uint32_t{rgb[2]} << 16) | (255u << 24);
+    std::vector<LinePixel> out;
     for (const auto& line : lines) {
         const V d0 = sub(line[0], b.eye), d1 = sub(line[1], b.eye);
         const double z0 = dot(d0, b.forward), z1 = dot(d1, b.forward);
@@ -174,17 +186,25 @@ void draw_lines(DepthImage& im, const CameraView& camera, const std::vector<std:
             const double t = static_cast<double>(s) / steps;
             const double x = x0 + t * (x1 - x0), y = y0 + t * (y1 - y0);
             const double z = 1.0 / ((1 - t) / z0 + t / z1);
-            if (x < 0 || y < 0 || x >= im.width || y >= im.height) continue;
-            const std::size_t p = static_cast<std::size_t>(y) * im.width + static_cast<std::size_t>(x);
+            if (x < 0 || y < 0 || x >= camera.width || y >= camera.height) continue;
             const float zf = static_cast<float>(z * 0.999);  // a little in front of a face the line lies on
-            std::uint32_t bits;
-            std::memcpy(&bits, &zf, 4);
-            if (bits <= im.depth[p]) {
-                im.depth[p] = bits;
-                im.colour[p] = packed;
-            }
+            LinePixel px;
+            px.index = static_cast<std::uint32_t>(static_cast<std::size_t>(y) * camera.width + static_cast<std::size_t>(x));
+            std::memcpy(&px.depth, &zf, 4);
+            out.push_back(px);
         }
     }
+    return out;
+}
+
+void draw_lines(DepthImage& im, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
+                std::array<std::uint8_t, 3> rgb) {
+    const std::uint32_t packed = rgb[0] | (std::uint32_t{rgb[1]} << 8) | (std::uint32_t{rgb[2]} << 16) | (255u << 24);
+    for (const auto& px : line_pixels(camera, lines))
+        if (px.depth <= im.depth[px.index]) {
+            im.depth[px.index] = px.depth;
+            im.colour[px.index] = packed;
+        }
 }
 
 Image to_rgb(const DepthImage& im, std::array<std::uint8_t, 3> background) {

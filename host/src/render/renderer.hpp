@@ -38,6 +38,10 @@ struct CameraBasis {
 };
 CameraBasis camera_basis(const CameraView& camera);
 
+// `b` at least `bytes` long, its contents undefined: kept when it is, else released, then
+// allocated (the images' buffers, kept from frame to frame).
+void keep_buffer(cl_rt::Device& device, cl_rt::Buffer& b, std::size_t bytes, const char* what);
+
 // A vector (and w) as the kernels' float4.
 cl_float4 float4_of(const std::array<double, 3>& v, double w = 0);
 
@@ -59,6 +63,13 @@ struct UploadedLayer {
     DeviceLayer layer() const { return {&positions, &normals, &triangles, count, colour}; }
 };
 
+// A depth and a colour image on a device (the Renderer's, kept from frame to frame).
+struct RenderTarget {
+    const cl_rt::Buffer* depth = nullptr;
+    const cl_rt::Buffer* colour = nullptr;
+    std::uint32_t width = 0, height = 0;
+};
+
 class Renderer {
 public:
     explicit Renderer(cl_rt::Device& device);
@@ -67,17 +78,26 @@ public:
     DepthImage draw(const CameraView& camera, const std::vector<Layer>& layers);
     // The same for triangles already on the device, drawn as they are (nothing uploaded).
     DepthImage draw(const CameraView& camera, const std::vector<DeviceLayer>& layers);
+    // The same, the image left on the device (valid until the next render or draw).
+    RenderTarget render(const CameraView& camera, const std::vector<DeviceLayer>& layers);
 
 private:
     cl_rt::Device& device_;
     cl::Kernel depth_k_, shade_k_, shade_field_k_;
     std::size_t wg_;
+    cl_rt::Buffer depth_, colour_;  // kept from frame to frame, reallocated when the size changes
 };
 
 // The nearest of several depth images, pixel by pixel, over `background` (the walls' lines are
 // drawn by the caller); ties keep the first image's colour.
 DepthImage composite(const std::vector<DepthImage>& images);
 
+// The pixels lines cover (a pixel of the camera's image, row-major, and the depth its line has
+// there, as bits of a float, a little in front of a face the line lies on), in order.
+struct LinePixel {
+    std::uint32_t index = 0, depth = 0;
+};
+std::vector<LinePixel> line_pixels(const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines);
 // Lines drawn into the image with the depth test (wireframes of the walls).
 void draw_lines(DepthImage& image, const CameraView& camera, const std::vector<std::array<Vec3, 2>>& lines,
                 std::array<std::uint8_t, 3> rgb);

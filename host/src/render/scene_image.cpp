@@ -64,6 +64,7 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 namespace {
 
 constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
+constexpr std::array<std::uint8_t, 3> kBackground{246, 246, 246};
 
 // The devices' images composited by depth, the walls' outlines drawn over, on the background.
 Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraView& camera) {
@@ -77,7 +78,7 @@ Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraVie
         im = composite(images);
     }
     draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
-    return to_rgb(im, {246, 246, 246});
+    return to_rgb(im, kBackground);
 }
 
 }  // namespace
@@ -153,19 +154,19 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
 }
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera, const ImageStyle& style) {
+                   const CameraView& camera, const ImageStyle& style, FrameCache& cache) {
     auto& slabs = driver.slabs();
     const std::uint32_t mode = field_mode(style.surface);
     const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
-    const TriangleMesh solids = box_mesh(scene.solids);
-    std::vector<std::uint32_t> all_solids(solids.triangles.size());
-    for (std::uint32_t t = 0; t < all_solids.size(); ++t) all_solids[t] = t;
-    std::vector<DepthImage> images;
+    // The first device that draws keeps its image and finishes the picture; the others' images are
+    // read back and merged into it there, in the devices' order.
+    RenderTarget target;
+    cl_rt::Device* shows = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
-        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !all_solids.empty();
+        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !scene.solids.empty();
         if (!water && !boxes) continue;
-        Renderer r(*slabs[d].device);
+        Renderer& r = cache.renderer(*slabs[d].device);
         std::vector<DeviceLayer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
         cl_rt::Buffer values;  // the field at the vertices, from this device's particles
@@ -178,14 +179,17 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                 layers.back().values = &values;
             }
         }
-        UploadedLayer boxes_up;  // drawn in the same image as the water (one read-back)
-        if (boxes) {
-            boxes_up = r.upload({&solids, all_solids, kSolid});
-            layers.push_back(boxes_up.layer());
+        if (boxes) layers.push_back(cache.boxes(*slabs[d].device, scene.solids).layer());  // in the same image
+        if (!shows) {
+            shows = slabs[d].device;
+            target = r.render(camera, layers);
+        } else {
+            cache.finisher(*shows).merge(target, r.draw(camera, layers));
         }
-        images.push_back(r.draw(camera, layers));
     }
-    Image out = finish(std::move(images), scene, camera);
+    Image out = shows ? cache.finisher(*shows).finish(target, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70},
+                                                      kBackground, false)
+                      : finish({}, scene, camera);
     out.range = range;
     return out;
 }

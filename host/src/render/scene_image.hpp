@@ -6,6 +6,7 @@
 #include "clsph/scene.hpp"
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
+#include "render/frame_cache.hpp"
 #include "surface/extract.hpp"
 
 namespace clsph::render {
@@ -19,11 +20,12 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
 // The same from the surface where the devices made it (surface::surface_on_devices): each device
 // draws its own part from its own memory; only the images move.
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
-                   const surface::DeviceParts& surface, const CameraView& camera, const ImageStyle& style = {});
+                   const surface::DeviceParts& surface, const CameraView& camera, const ImageStyle& style,
+                   FrameCache& cache);
 
 // The same picture with the water drawn by splats (render.method "splat", render/splat.hpp): no mesh;
 // `style` by a field colours the splats (by_device: drawn as uniform).
 Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
-                  const ImageStyle& style = {});
+                  const ImageStyle& style, FrameCache& cache);
 
 }  // namespace clsph::render

@@ -40,24 +40,40 @@ struct SplatField {
 };
 
 // The splat pass on one device: depth and thickness images of particles [first, first + count)
-// of `particles` (boundary particles and particles with the invalid key skipped).
+// of `particles` (boundary particles and particles with the invalid key skipped). The images stay
+// in the Splatter's buffers (kept from frame to frame, reallocated only when the camera's size
+// changes) until the next splat: `draw` reads them back, `splat` leaves them there for the shading
+// on this device (SplatShader::shade), other devices' images merged in by `merge`.
 class Splatter {
 public:
     Splatter(cl_rt::Device& device, const device::Grid& grid);
     SplatImage draw(const CameraView& camera, const device::ParticleArrays& particles, std::size_t first,
                     std::size_t count, double radius, const SplatField& field = {});
+    void splat(const CameraView& camera, const device::ParticleArrays& particles, std::size_t first, std::size_t count,
+               double radius, const SplatField& field = {});
+    // The images of the last splat, read back.
+    SplatImage read() const;
+    // Another device's image (read back from there) merged into this one's: nearest depth, sums added.
+    void merge(const SplatImage& other);
+
+    std::uint32_t width() const { return width_; }
+    std::uint32_t height() const { return height_; }
+    double unit() const { return unit_; }
+    bool has_field() const { return has_field_; }
+    const cl_rt::Buffer& depth() const { return depth_; }
+    const cl_rt::Buffer& thickness() const { return thickness_; }
+    const cl_rt::Buffer& field() const { return field_; }
 
 private:
     cl_rt::Device& device_;
     const device::Grid& grid_;
-    cl::Kernel splat_k_;
+    cl::Kernel splat_k_, merge_k_;
     std::size_t wg_;
+    cl_rt::Buffer depth_, thickness_, field_, in_depth_, in_thickness_, in_field_;
+    std::uint32_t width_ = 0, height_ = 0;
+    double unit_ = 0;
+    bool has_field_ = false;
 };
-
-// The devices' splat images as one: the nearest depth and the sum of the thicknesses, pixel by
-// pixel (the sum is exact, so the result does not depend on how the particles were split); the
-// fields' sums too.
-SplatImage composite(const std::vector<SplatImage>& images);
 
 // Where the picture sits in the world, for the shading: which way is up (against gravity), the
 // ground plane's height along it, the checker's tile, the sun, the water's absorption.
@@ -72,18 +88,23 @@ struct Environment {
 };
 
 // Smoothing, normals and shading on one device: the water of `water` over `solids` (the solids'
-// depth image, from Renderer::draw; empty images: none), the ground and the sky. The result's
-// depth is the water's, the solids' or the ground's (for the walls' lines drawn after). Where
-// `water` has a field, the water takes the colour map's colour of its mean t.
+// depth and colour, from Renderer::render on this device; null: none), the ground and the sky. The
+// result's depth is the water's, the solids' or the ground's (for the walls' lines drawn after).
+// Where `water` has a field, the water takes the colour map's colour of its mean t. The water's
+// images are the Splatter's on this device: nothing but the result crosses to the host. The
+// buffers are kept from frame to frame.
 class SplatShader {
 public:
     explicit SplatShader(cl_rt::Device& device);
-    DepthImage shade(const CameraView& camera, const SplatImage& water, const DepthImage& solids, const Environment& env);
+    // The picture, left on the device (valid until the next shade).
+    RenderTarget shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids, const Environment& env);
 
 private:
     cl_rt::Device& device_;
-    cl::Kernel smooth_k_, shade_k_;
+    cl::Kernel prepare_k_, smooth_k_, shade_k_;
     std::size_t wg_;
+    std::size_t pixels_ = 0;
+    cl_rt::Buffer depth_a_, depth_b_, thick_a_, thick_b_, field_, no_solid_depth_, no_solid_colour_, colour_, out_depth_;
 };
 
 // Device bytes per pixel: of the splat pass on each device, and of the shading on its device.

@@ -1,10 +1,14 @@
 // An image of a simulation by splats (render.method "splat"): every device splats the fluid
-// particles it owns (no ghosts: each particle is drawn once), the host composites the images, the
-// first device renders the solid boxes (Renderer, as the surface method does) and shades the water
-// over them, and the walls' outlines are drawn last with the depth test.
+// particles it owns (no ghosts: each particle is drawn once), the first device merges the others'
+// images into its own, renders the solid boxes (Renderer, as the surface method does) and shades
+// the water over them and draws the walls' outlines with the depth test, all in its memory: only
+// the other devices' splats and the finished picture cross to the host.
 #include "render/scene_image.hpp"
 #include "render/field.hpp"
+#include "render/frame_cache.hpp"
 #include "render/splat.hpp"
+
+#include "clsph/error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,7 +46,7 @@ Environment environment_of(const Scene& scene, const CameraView& camera) {
 }  // namespace
 
 Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
-                  const ImageStyle& style) {
+                  const ImageStyle& style, FrameCache& cache) {
     auto& slabs = driver.slabs();
     const double radius = kSplatRadius * scene.physics.dp;
     SplatField field;
@@ -51,34 +55,33 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
         field.range = field_range(driver, grid, style);
         field.sp = driver.params();
     }
-    std::vector<SplatImage> splats;
+    // The first device here shades: its splats stay where they are drawn, the others' are read
+    // back and merged into them there (only images cross devices).
+    Splatter* water = nullptr;
     cl_rt::Device* shading = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (!driver.here(d)) continue;
         auto& s = slabs[d];
-        if (!shading) shading = s.device;
-        if (s.store->ranges.owned == 0 && !splats.empty()) continue;
-        Splatter splatter(*s.device, grid);
-        splats.push_back(splatter.draw(camera, *s.store, s.store->ranges.first_owned(), s.store->ranges.owned, radius, field));
+        if (water && s.store->ranges.owned == 0) continue;
+        Splatter& splatter = cache.splatter(*s.device, grid);
+        splatter.splat(camera, *s.store, s.store->ranges.first_owned(), s.store->ranges.owned, radius, field);
+        if (!water) {
+            water = &splatter;
+            shading = s.device;
+        } else {
+            water->merge(splatter.read());
+        }
     }
-    const SplatImage water = composite(splats);
-    DepthImage solids;
-    const TriangleMesh boxes = box_mesh(scene.solids);
-    if (!boxes.triangles.empty()) {
-        Layer layer{&boxes, {}, {0.62f, 0.60f, 0.58f}};
-        for (std::uint32_t t = 0; t < boxes.triangles.size(); ++t) layer.triangles.push_back(t);
-        solids = Renderer(*shading).draw(camera, {layer});
+    if (!water) throw Error("splat: no device holds the run here");
+    RenderTarget solids;
+    if (!scene.solids.empty()) {
+        const UploadedLayer& boxes = cache.boxes(*shading, scene.solids);
+        solids = cache.renderer(*shading).render(camera, {boxes.layer()});
     }
-    SplatShader shader(*shading);
-    DepthImage im = shader.shade(camera, water, solids, environment_of(scene, camera));
-    draw_lines(im, camera, wall_lines(scene.walls), {70, 70, 70});
-    Image out;
+    const RenderTarget im = cache.shader(*shading).shade(camera, *water, solids.depth ? &solids : nullptr, environment_of(scene, camera));
+    // The shading coloured every pixel (the sky and the ground where nothing else is).
+    Image out = cache.finisher(*shading).finish(im, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70}, {0, 0, 0}, true);
     if (field.mode) out.range = field.range;
-    out.width = im.width;
-    out.height = im.height;
-    out.rgb.resize(std::size_t{3} * im.width * im.height);
-    for (std::size_t p = 0; p < im.colour.size(); ++p)
-        for (std::size_t c = 0; c < 3; ++c) out.rgb[3 * p + c] = static_cast<std::uint8_t>((im.colour[p] >> (8 * c)) & 0xffu);
     return out;
 }
 

@@ -28,60 +28,63 @@ constexpr std::uint32_t kMaxFilterPx = 24;
 }  // namespace
 
 SplatShader::SplatShader(cl_rt::Device& device) : device_(device), wg_(device.work_group_size(64)) {
+    prepare_k_ = device.kernel("splat_shade.cl", "splat_prepare");
     smooth_k_ = device.kernel("splat_shade.cl", "splat_smooth");
     shade_k_ = device.kernel("splat_shade.cl", "splat_shade");
 }
 
-DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water, const DepthImage& solids,
+RenderTarget SplatShader::shade(const CameraView& camera, const Splatter& water, const RenderTarget* solids,
                               const Environment& env) {
     const std::size_t pixels = std::size_t{camera.width} * camera.height;
-    if (water.width != camera.width || water.height != camera.height || water.depth.size() != pixels)
+    if (water.width() != camera.width || water.height() != camera.height)
         throw Error("splat: the water's image is not the camera's size");
-    const bool have_solids = !solids.depth.empty();
-    if (have_solids && solids.depth.size() != pixels) throw Error("splat: the solids' image is not the camera's size");
+    if (solids && (solids->width != camera.width || solids->height != camera.height))
+        throw Error("splat: the solids' image is not the camera's size");
     const CameraBasis b = camera_basis(camera);
     const cl_uint2 size{{camera.width, camera.height}};
-
-    auto depth_a = device_.alloc(pixels * sizeof(cl_uint), "splat shade depth");
-    auto depth_b = device_.alloc(pixels * sizeof(cl_uint), "splat shade smoothed depth");
-    auto thick = device_.alloc(pixels * sizeof(cl_float), "splat shade thickness");
-    auto thick_b = device_.alloc(pixels * sizeof(cl_float), "splat shade smoothed thickness");
-    auto solid_depth = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid depth");
-    auto solid_colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid colour");
-    auto colour = device_.alloc(pixels * sizeof(cl_uint), "splat shade colour");
-    auto out_depth = device_.alloc(pixels * sizeof(cl_uint), "splat shade out depth");
-    // Coloured by a field: each pixel's chord-weighted mean t (-1 without water).
-    const bool by_field = !water.field.empty();
-    auto field = device_.alloc((by_field ? pixels : 1) * sizeof(cl_float), "splat shade field");
-    if (by_field) {
-        std::vector<float> t(pixels, -1.0f);
-        for (std::size_t p = 0; p < pixels; ++p)
-            if (water.thickness[p] > 0) t[p] = static_cast<float>(static_cast<double>(water.field[p]) / water.thickness[p]);
-        device_.write(field, t.data(), pixels);
-    } else {
-        device_.fill(field, cl_float(-1.0f), 1);
+    const bool by_field = water.has_field();
+    if (pixels_ != pixels) {  // the buffers kept from frame to frame, released before they are replaced
+        pixels_ = 0;
+        for (auto* buf : {&depth_a_, &depth_b_, &thick_a_, &thick_b_, &field_, &no_solid_depth_, &no_solid_colour_, &colour_, &out_depth_})
+            *buf = {};
+        depth_a_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade depth");
+        depth_b_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade smoothed depth");
+        thick_a_ = device_.alloc(pixels * sizeof(cl_float), "splat shade thickness");
+        thick_b_ = device_.alloc(pixels * sizeof(cl_float), "splat shade smoothed thickness");
+        field_ = device_.alloc(pixels * sizeof(cl_float), "splat shade field");
+        colour_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade colour");
+        out_depth_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade out depth");
+        pixels_ = pixels;
     }
-    device_.write(depth_a, water.depth.data(), pixels);
-    std::vector<float> metres(pixels);  // counts to metres: the filter blurs the thickness as a float
-    for (std::size_t p = 0; p < pixels; ++p) metres[p] = static_cast<float>(water.thickness[p] * water.unit);
-    device_.write(thick, metres.data(), pixels);
-    if (have_solids) {
-        device_.write(solid_depth, solids.depth.data(), pixels);
-        device_.write(solid_colour, solids.colour.data(), pixels);
-    } else {
-        device_.fill(solid_depth, cl_uint(0xffffffffu), pixels);
-        device_.fill(solid_colour, cl_uint(0), pixels);
+    if (!solids && !no_solid_depth_) {  // an empty solids' image, once
+        no_solid_depth_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid depth");
+        no_solid_colour_ = device_.alloc(pixels * sizeof(cl_uint), "splat shade solid colour");
+        device_.fill(no_solid_depth_, cl_uint(0xffffffffu), pixels);
+        device_.fill(no_solid_colour_, cl_uint(0), pixels);
     }
+    const cl_rt::Buffer& solid_depth = solids ? *solids->depth : no_solid_depth_;
+    const cl_rt::Buffer& solid_colour = solids ? *solids->colour : no_solid_colour_;
 
-    // Smoothing: the filter reaches kFilterRadii splat radii; depths within kGapRadii blend.
+    // Counts to metres (the filter blurs the thickness as a float), the field's sums to means.
+    cl_rt::set_args(prepare_k_, cl_rt::checked_uint(pixels), static_cast<float>(water.unit()), cl_uint{by_field ? 1u : 0u},
+                    water.thickness(), water.field(), thick_a_, field_);
+    device_.launch("splat.prepare", prepare_k_, pixels, wg_);
+
+    // Smoothing: the filter reaches kFilterRadii splat radii; depths within kGapRadii blend. The
+    // first pass reads the splats' depth where they are; the rest go between the two buffers.
     const cl_float4 filter{{static_cast<float>(b.scale), static_cast<float>(kFilterRadii * env.radius),
                             static_cast<float>(kGapRadii * env.radius), 0.0f}};
+    const cl_rt::Buffer* depth_in = &water.depth();
+    cl_rt::Buffer* depth_out = &depth_a_;
+    cl_rt::Buffer* thick_in = &thick_a_;
+    cl_rt::Buffer* thick_out = &thick_b_;
     for (int round = 0; round < kSmoothRounds; ++round)
         for (cl_uint axis = 0; axis < 2; ++axis) {
-            cl_rt::set_args(smooth_k_, size, filter, axis, cl_uint(kMaxFilterPx), depth_a, thick, depth_b, thick_b);
+            cl_rt::set_args(smooth_k_, size, filter, axis, cl_uint(kMaxFilterPx), *depth_in, *thick_in, *depth_out, *thick_out);
             device_.launch("splat.smooth", smooth_k_, pixels, wg_);
-            std::swap(depth_a, depth_b);
-            std::swap(thick, thick_b);
+            depth_in = depth_out;
+            depth_out = depth_out == &depth_a_ ? &depth_b_ : &depth_a_;
+            std::swap(thick_in, thick_out);
         }
 
     const V up = unit(env.up);
@@ -92,11 +95,11 @@ DepthImage SplatShader::shade(const CameraView& camera, const SplatImage& water,
     const cl_float4 edge{{static_cast<float>(0.5 * env.radius), static_cast<float>(20 * env.radius),
                           static_cast<float>(kGapRadii * env.radius), 0.0f}};
     cl_rt::set_args(shade_k_, size, view, float4_of(b.right), float4_of(b.up), float4_of(b.forward), float4_of(b.eye), float4_of(up, eye_height),
-                    float4_of(unit(env.sun), env.tile), float4_of(env.absorb), float4_of(env.deep), edge, cl_uint{by_field ? 1u : 0u}, depth_a, thick,
-                    solid_depth, solid_colour, field, colour, out_depth);
+                    float4_of(unit(env.sun), env.tile), float4_of(env.absorb), float4_of(env.deep), edge, cl_uint{by_field ? 1u : 0u}, *depth_in,
+                    *thick_in, solid_depth, solid_colour, field_, colour_, out_depth_);
     device_.launch("splat.shade", shade_k_, pixels, wg_);
 
-    return read_depth_image(device_, out_depth, colour, camera.width, camera.height);
+    return {&out_depth_, &colour_, camera.width, camera.height};
 }
 
 }  // namespace clsph::render

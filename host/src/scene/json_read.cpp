@@ -1,6 +1,7 @@
 // The scene document -> Scene (schema: docs/scenes.md). Defaults come from the structs in
 // clsph/scene.hpp, so the file format and the C++ API cannot disagree about them.
 #include "scene/json_fields.hpp"
+#include "scene/json_motion.hpp"
 #include "scene/json_scene.hpp"
 #include "scene/mesh_obj.hpp"
 
@@ -89,19 +90,35 @@ unsigned read_faces(const Json& v, const std::string& path) {
 }
 
 // A solid's prescribed motion: {"segments": [...]}, each segment the keys of its type only
-// (clsph/scene.hpp, MotionSegment). Values are checked by Scene::validate.
-Motion read_motion(const Json& v, const std::string& path) {
-    Fields f(v, path, {"segments"});
+// (clsph/scene.hpp, MotionSegment), a "csv" segment the intervals of its file, or {"wave_maker":
+// {...}} (scene/json_motion.hpp). Values are checked by Scene::validate. `scene`: the physics and
+// run read so far (a wave maker's gravity and end), `base_dir`: what a CSV file is relative to.
+Motion read_motion(const Json& v, const std::string& path, const Scene& scene, const std::string& base_dir) {
+    Fields f(v, path, {"segments", "wave_maker"});
     Motion m;
+    if (const Json* w = f.find("wave_maker")) {
+        if (f.find("segments")) key_error(f.path_of("segments"), "give either segments or a wave_maker, not both");
+        MotionSegment s;
+        m.wave_maker = read_wave_maker(*w, f.path_of("wave_maker"), scene, s);
+        m.segments.push_back(s);
+        return m;
+    }
     using Type = MotionSegment::Type;
     for_each_element(f.require("segments"), f.path_of("segments"), [&](const Json& e, const std::string& at) {
+        if (is_csv_segment(e)) {
+            for (const auto& s : read_csv_segment(e, at, base_dir)) m.segments.push_back(s);
+            return;
+        }
         Fields g(e, at, {"type", "start", "end", "velocity", "amplitude", "period", "phase", "axis_point", "axis", "angle",
-                         "angular_velocity"});
+                         "angular_velocity", "ramp"});
         MotionSegment s;
-        if (!g.find("type")) key_error(g.path_of("type"), "missing required key (\"linear\", \"sine\", \"sine_rotation\" or \"rotation\")");
+        if (!g.find("type"))
+            key_error(g.path_of("type"), "missing required key (\"linear\", \"sine\", \"sine_rotation\", \"rotation\", \"csv\", "
+                                         "\"linear_rotation\", \"ramped_sine\" or \"ramped_sine_rotation\")");
         s.type = g.choice("type", s.type,
                           {{"linear", Type::linear}, {"sine", Type::sine}, {"sine_rotation", Type::sine_rotation},
-                           {"rotation", Type::rotation}});
+                           {"rotation", Type::rotation}, {"linear_rotation", Type::linear_rotation}, {"ramped_sine", Type::ramped_sine},
+                           {"ramped_sine_rotation", Type::ramped_sine_rotation}});
         const std::string type = read_string(*g.find("type"), g.path_of("type"));
         s.start = read_number(g.require("start"), g.path_of("start"));
         s.end = read_number(g.require("end"), g.path_of("end"));
@@ -112,34 +129,41 @@ Motion read_motion(const Json& v, const std::string& path) {
         case Type::sine: own = {"amplitude", "period", "phase"}; break;
         case Type::sine_rotation: own = {"axis_point", "axis", "angle", "period", "phase"}; break;
         case Type::rotation: own = {"axis_point", "axis", "angular_velocity"}; break;
+        case Type::linear_rotation: own = {"velocity", "axis_point", "axis", "angular_velocity"}; break;
+        case Type::ramped_sine: own = {"amplitude", "period", "ramp"}; break;
+        case Type::ramped_sine_rotation: own = {"axis_point", "axis", "angle", "period", "ramp"}; break;
         }
-        for (const char* k : {"velocity", "amplitude", "period", "phase", "axis_point", "axis", "angle", "angular_velocity"})
+        for (const char* k : {"velocity", "amplitude", "period", "phase", "axis_point", "axis", "angle", "angular_velocity", "ramp"})
             if (g.find(k) && std::find(own.begin(), own.end(), k) == own.end())
                 key_error(g.path_of(k), "is not a key of a \"" + type + "\" segment (its keys: start, end, " + [&] {
                     std::string list;
                     for (const auto& o : own) list += (list.empty() ? "" : ", ") + o;
                     return list;
                 }() + ")");
-        if (s.type == Type::linear) s.velocity = read_vec3(g.require("velocity"), g.path_of("velocity"));
-        if (s.type == Type::sine) s.amplitude = read_vec3(g.require("amplitude"), g.path_of("amplitude"));
-        if (s.type == Type::sine || s.type == Type::sine_rotation) {
+        const bool ramped = s.type == Type::ramped_sine || s.type == Type::ramped_sine_rotation;
+        if (s.type == Type::linear || s.type == Type::linear_rotation) s.velocity = read_vec3(g.require("velocity"), g.path_of("velocity"));
+        if (s.type == Type::sine || s.type == Type::ramped_sine) s.amplitude = read_vec3(g.require("amplitude"), g.path_of("amplitude"));
+        if (s.type == Type::sine || s.type == Type::sine_rotation || ramped) {
             s.period = read_number(g.require("period"), g.path_of("period"));
-            s.phase = g.number("phase", s.phase);
+            if (!ramped) s.phase = g.number("phase", s.phase);
         }
-        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+        if (ramped) s.ramp = g.number("ramp", s.ramp);
+        if (s.type == Type::sine_rotation || s.type == Type::rotation || s.type == Type::linear_rotation ||
+            s.type == Type::ramped_sine_rotation) {
             s.axis_point = read_vec3(g.require("axis_point"), g.path_of("axis_point"));
             s.axis = read_vec3(g.require("axis"), g.path_of("axis"));
         }
-        if (s.type == Type::sine_rotation) s.angle = read_number(g.require("angle"), g.path_of("angle"));
-        if (s.type == Type::rotation) s.angular_velocity = read_number(g.require("angular_velocity"), g.path_of("angular_velocity"));
+        if (s.type == Type::sine_rotation || s.type == Type::ramped_sine_rotation) s.angle = read_number(g.require("angle"), g.path_of("angle"));
+        if (s.type == Type::rotation || s.type == Type::linear_rotation)
+            s.angular_velocity = read_number(g.require("angular_velocity"), g.path_of("angular_velocity"));
         m.segments.push_back(s);
     });
     return m;
 }
 
-Motion read_motion_of(Fields& f) {
+Motion read_motion_of(Fields& f, const Scene& scene, const std::string& base_dir) {
     const Json* m = f.find("motion");
-    return m && !m->is_null() ? read_motion(*m, f.path_of("motion")) : Motion{};
+    return m && !m->is_null() ? read_motion(*m, f.path_of("motion"), scene, base_dir) : Motion{};
 }
 
 // The range is checked by Scene::validate, for scenes from files and from code alike.
@@ -156,7 +180,7 @@ std::string resolve_mesh_path(const Json& v, const std::string& key, const std::
     return (ec ? p : abs).lexically_normal().string();
 }
 
-MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir) {
+MeshObject read_mesh(const Json& v, const std::string& path, const std::string& base_dir, const Scene& scene) {
     Fields f(v, path, {"path", "scale", "translate", "rotate", "fluid", "layers", "motion"});
     MeshObject m;
     m.path = resolve_mesh_path(f.require("path"), f.path_of("path"), base_dir);
@@ -165,7 +189,7 @@ MeshObject read_mesh(const Json& v, const std::string& path, const std::string& 
     m.rotate = f.vec3("rotate", m.rotate);
     m.fluid = f.boolean("fluid", m.fluid);
     m.layers = read_layers(f, m.layers);
-    m.motion = read_motion_of(f);
+    m.motion = read_motion_of(f, scene, base_dir);
     return m;
 }
 
@@ -180,7 +204,7 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             if (const Json* faces = w.find("faces")) b.faces = read_faces(*faces, w.path_of("faces"));
             b.layers = read_layers(w, b.layers);
-            b.motion = read_motion_of(w);
+            b.motion = read_motion_of(w, s, base_dir);
             s.walls.push_back(b);
         });
     if (const Json* boxes = f.find("boxes"))
@@ -190,12 +214,12 @@ void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
             b.min = read_vec3(w.require("min"), w.path_of("min"));
             b.max = read_vec3(w.require("max"), w.path_of("max"));
             b.layers = read_layers(w, b.layers);
-            b.motion = read_motion_of(w);
+            b.motion = read_motion_of(w, s, base_dir);
             s.solids.push_back(b);
         });
     if (const Json* meshes = f.find("meshes"))
         for_each_element(*meshes, "boundaries.meshes",
-                         [&](const Json& e, const std::string& path) { s.meshes.push_back(read_mesh(e, path, base_dir)); });
+                         [&](const Json& e, const std::string& path) { s.meshes.push_back(read_mesh(e, path, base_dir, s)); });
 }
 
 // A pressure sensor's face: `normal` (null, as the resolved scene writes it, or absent: a point
@@ -246,9 +270,10 @@ RunControl read_run(const Json& v) {
 }
 
 RenderSettings read_render(const Json& v) {
-    Fields f(v, "render", {"method", "camera", "size"});
+    Fields f(v, "render", {"method", "camera", "size", "surface_spacing"});
     RenderSettings r;
     r.method = f.choice("method", r.method, {{"surface", RenderMethod::surface}, {"splat", RenderMethod::splat}});
+    r.surface_spacing = f.number("surface_spacing", r.surface_spacing);
     if (const Json* c = f.find("camera")) {
         Fields cf(*c, "render.camera", {"eye", "target", "up", "fov"});
         r.has_camera = true;
@@ -280,11 +305,12 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
     s.name = top.text("name", origin.default_name);
     s.physics = read_physics(top.require("physics"));
     s.domain = read_domain(top.require("domain"));
+    // The run before the boundaries: a wave maker's motion lasts the run unless it says otherwise.
+    if (const Json* r = top.find("run")) s.run = read_run(*r);
     if (const Json* fluid = top.find("fluid"))
         for_each_element(*fluid, "fluid", [&](const Json& e, const std::string& path) { s.fluids.push_back(read_fluid(e, path)); });
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
-    if (const Json* r = top.find("run")) s.run = read_run(*r);
     if (const Json* r = top.find("render")) s.render = read_render(*r);
 
     const bool fluid_mesh = std::any_of(s.meshes.begin(), s.meshes.end(), [](const MeshObject& m) { return m.fluid; });

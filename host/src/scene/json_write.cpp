@@ -1,5 +1,6 @@
 // Scene -> scene document: every key written, defaults included, so that a run's resolved scene
 // (run.json) says exactly what was simulated and reads back to the same Scene.
+#include "scene/json_motion.hpp"
 #include "scene/json_scene.hpp"
 
 namespace clsph::scene {
@@ -31,24 +32,34 @@ Json faces_value(unsigned faces) {
 // A solid's motion, written only where it has one (a scene without motion writes what it did before).
 void put_motion(Json& j, const Motion& m) {
     if (!m.moves()) return;
+    if (m.wave_maker) {
+        j["motion"] = Json{{"wave_maker", wave_maker_document(*m.wave_maker)}};
+        return;
+    }
     Json segments = Json::array();
     for (const auto& s : m.segments) {
         Json g;
         using Type = MotionSegment::Type;
-        g["type"] = s.type == Type::linear ? "linear" : s.type == Type::sine ? "sine" : s.type == Type::sine_rotation ? "sine_rotation" : "rotation";
+        static const char* names[] = {"linear", "sine", "sine_rotation", "rotation", "linear_rotation", "ramped_sine", "ramped_sine_rotation"};
+        g["type"] = names[static_cast<int>(s.type)];
         g["start"] = s.start;
         g["end"] = s.end;
-        if (s.type == Type::linear) g["velocity"] = vec(s.velocity);
-        if (s.type == Type::sine) g["amplitude"] = vec(s.amplitude);
-        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+        const bool ramped = s.type == Type::ramped_sine || s.type == Type::ramped_sine_rotation;
+        if (s.type == Type::linear || s.type == Type::linear_rotation) g["velocity"] = vec(s.velocity);
+        if (s.type == Type::sine || s.type == Type::ramped_sine) g["amplitude"] = vec(s.amplitude);
+        if (s.type == Type::sine_rotation || s.type == Type::rotation || s.type == Type::linear_rotation || s.type == Type::ramped_sine_rotation) {
             g["axis_point"] = vec(s.axis_point);
             g["axis"] = vec(s.axis);
         }
-        if (s.type == Type::sine_rotation) g["angle"] = s.angle;
-        if (s.type == Type::rotation) g["angular_velocity"] = s.angular_velocity;
+        if (s.type == Type::sine_rotation || s.type == Type::ramped_sine_rotation) g["angle"] = s.angle;
+        if (s.type == Type::rotation || s.type == Type::linear_rotation) g["angular_velocity"] = s.angular_velocity;
         if (s.type == Type::sine || s.type == Type::sine_rotation) {
             g["period"] = s.period;
             g["phase"] = s.phase;
+        }
+        if (ramped) {
+            g["period"] = s.period;
+            g["ramp"] = s.ramp;
         }
         segments.push_back(g);
     }
@@ -171,6 +182,7 @@ Json scene_to_document(const Scene& s) {
         render["camera"] = cam;
     }
     render["size"] = Json::array({s.render.width, s.render.height});
+    if (s.render.surface_spacing != 0) render["surface_spacing"] = s.render.surface_spacing;
     doc["render"] = render;
     return doc;
 }

@@ -31,13 +31,28 @@ std::array<double, 9> rotation(const Vec3& n, double theta) {
 
 double omega(const MotionSegment& s) { return kTwoPi / s.period; }
 
+// The ramp-up r(tau) of a ramped segment and its rate: (1 - cos(pi tau / ramp)) / 2, then 1.
+double ramp_at(const MotionSegment& s, double tau) {
+    return tau < s.ramp ? 0.5 * (1.0 - std::cos(kTwoPi * 0.5 * tau / s.ramp)) : 1.0;
+}
+double ramp_rate(const MotionSegment& s, double tau) {
+    return tau < s.ramp ? 0.5 * (kTwoPi * 0.5 / s.ramp) * std::sin(kTwoPi * 0.5 * tau / s.ramp) : 0.0;
+}
+// r(tau) sin(w tau) and its derivative.
+double ramped_sine_at(const MotionSegment& s, double tau) { return ramp_at(s, tau) * std::sin(omega(s) * tau); }
+double ramped_sine_rate(const MotionSegment& s, double tau) {
+    return ramp_rate(s, tau) * std::sin(omega(s) * tau) + ramp_at(s, tau) * omega(s) * std::cos(omega(s) * tau);
+}
+
 // The rotation angle of a rotating segment after tau, and its rate.
 double angle_at(const MotionSegment& s, double tau) {
-    if (s.type == MotionSegment::Type::rotation) return s.angular_velocity * tau;
+    if (s.type == MotionSegment::Type::rotation || s.type == MotionSegment::Type::linear_rotation) return s.angular_velocity * tau;
+    if (s.type == MotionSegment::Type::ramped_sine_rotation) return s.angle * ramped_sine_at(s, tau);
     return s.angle * (std::sin(omega(s) * tau + s.phase) - std::sin(s.phase));
 }
 double angle_rate(const MotionSegment& s, double tau) {
-    if (s.type == MotionSegment::Type::rotation) return s.angular_velocity;
+    if (s.type == MotionSegment::Type::rotation || s.type == MotionSegment::Type::linear_rotation) return s.angular_velocity;
+    if (s.type == MotionSegment::Type::ramped_sine_rotation) return s.angle * ramped_sine_rate(s, tau);
     return s.angle * omega(s) * std::cos(omega(s) * tau + s.phase);
 }
 
@@ -68,11 +83,23 @@ RigidPose segment_pose(const MotionSegment& s, double tau) {
         for (int k = 0; k < 3; ++k) p.T[k] = s.amplitude[k] * f;
         break;
     }
+    case MotionSegment::Type::ramped_sine: {
+        const double f = ramped_sine_at(s, tau);
+        for (int k = 0; k < 3; ++k) p.T[k] = s.amplitude[k] * f;
+        break;
+    }
     case MotionSegment::Type::sine_rotation:
-    case MotionSegment::Type::rotation: {
+    case MotionSegment::Type::rotation:
+    case MotionSegment::Type::ramped_sine_rotation: {
         p.R = rotation(unit(s.axis), angle_at(s, tau));
         const Vec3 rc = RigidPose{p.R, {0, 0, 0}}.apply(s.axis_point);
         for (int k = 0; k < 3; ++k) p.T[k] = s.axis_point[k] - rc[k];
+        break;
+    }
+    case MotionSegment::Type::linear_rotation: {  // about the axis point, which moves with velocity
+        p.R = rotation(unit(s.axis), angle_at(s, tau));
+        const Vec3 rc = RigidPose{p.R, {0, 0, 0}}.apply(s.axis_point);
+        for (int k = 0; k < 3; ++k) p.T[k] = s.axis_point[k] + s.velocity[k] * tau - rc[k];
         break;
     }
     }
@@ -107,9 +134,18 @@ Vec3 motion_velocity(const Motion& m, double t, const Vec3& x0) {
             const double f = omega(s) * std::cos(omega(s) * tau + s.phase);
             return {s.amplitude[0] * f, s.amplitude[1] * f, s.amplitude[2] * f};
         }
+        if (s.type == MotionSegment::Type::ramped_sine) {
+            const double f = ramped_sine_rate(s, tau);
+            return {s.amplitude[0] * f, s.amplitude[1] * f, s.amplitude[2] * f};
+        }
         const Vec3 x = motion_pose(m, t).apply(x0);
         const Vec3 n = unit(s.axis);
         const Vec3 w{n[0] * angle_rate(s, tau), n[1] * angle_rate(s, tau), n[2] * angle_rate(s, tau)};
+        if (s.type == MotionSegment::Type::linear_rotation) {
+            const Vec3 c{s.axis_point[0] + s.velocity[0] * tau, s.axis_point[1] + s.velocity[1] * tau, s.axis_point[2] + s.velocity[2] * tau};
+            const Vec3 r = cross(w, {x[0] - c[0], x[1] - c[1], x[2] - c[2]});
+            return {s.velocity[0] + r[0], s.velocity[1] + r[1], s.velocity[2] + r[2]};
+        }
         return cross(w, {x[0] - s.axis_point[0], x[1] - s.axis_point[1], x[2] - s.axis_point[2]});
     }
     return {0, 0, 0};
@@ -176,21 +212,36 @@ std::pair<Particles, std::vector<std::array<float, 3>>> swept_ghost_nodes(const 
     auto& [q, g] = out;
     const auto solids = moving_solids(scene);
     const auto owner = moving_solid_of(scene, p);
-    constexpr int kSamples = 16;
+    // The poses each solid is sampled at, per solid once: 16 over a segment by motion_pose; a
+    // motion from a CSV file (many short linear_rotation intervals) at each interval's end, from
+    // the start poses (motion_pose over every interval would be quadratic in the rows).
+    std::vector<std::vector<RigidPose>> samples(solids.size());
+    for (std::size_t j = 0; j < solids.size(); ++j) {
+        const Motion& m = solids[j].motion;
+        const bool csv = std::any_of(m.segments.begin(), m.segments.end(),
+                                     [](const MotionSegment& s) { return s.type == MotionSegment::Type::linear_rotation; });
+        const auto starts = csv ? segment_start_poses(m) : std::vector<RigidPose>{};
+        for (std::size_t k = 0; k < m.segments.size(); ++k) {
+            const auto& s = m.segments[k];
+            if (csv) {
+                samples[j].push_back(starts[k].then(segment_pose(s, s.end - s.start)));
+                continue;
+            }
+            constexpr int kSamples = 16;
+            for (int i = 1; i <= kSamples; ++i) samples[j].push_back(motion_pose(m, s.start + (s.end - s.start) * i / kSamples));
+        }
+    }
     for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.type[i] != ParticleType::boundary) continue;
         q.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
         g.push_back(offsets[i]);
         if (owner[i] < 0) continue;
-        const Motion& m = solids[static_cast<std::size_t>(owner[i])].motion;
-        for (const auto& s : m.segments)
-            for (int k = 1; k <= kSamples; ++k) {
-                const RigidPose pose = motion_pose(m, s.start + (s.end - s.start) * k / kSamples);
-                const Vec3 o{offsets[i][0], offsets[i][1], offsets[i][2]};
-                const Vec3 turned = RigidPose{pose.R, {0, 0, 0}}.apply(o);
-                q.push_back(p.id[i], p.type[i], pose.apply(p.position[i]), p.velocity[i], p.density[i], p.pressure[i]);
-                g.push_back({static_cast<float>(turned[0]), static_cast<float>(turned[1]), static_cast<float>(turned[2])});
-            }
+        for (const RigidPose& pose : samples[static_cast<std::size_t>(owner[i])]) {
+            const Vec3 o{offsets[i][0], offsets[i][1], offsets[i][2]};
+            const Vec3 turned = RigidPose{pose.R, {0, 0, 0}}.apply(o);
+            q.push_back(p.id[i], p.type[i], pose.apply(p.position[i]), p.velocity[i], p.density[i], p.pressure[i]);
+            g.push_back({static_cast<float>(turned[0]), static_cast<float>(turned[1]), static_cast<float>(turned[2])});
+        }
     }
     return out;
 }

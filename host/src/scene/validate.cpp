@@ -177,19 +177,25 @@ void check_motion(const Motion& m, const std::string& solid) {
             require(s.start >= m.segments[i - 1].end, key + ".start",
                     "overlaps the segment before it, which ends at " + num(m.segments[i - 1].end) +
                         " s (segments are in increasing time, without overlap)");
-        if (s.type == Type::linear) require_finite(s.velocity, key + ".velocity");
-        if (s.type == Type::sine) require_finite(s.amplitude, key + ".amplitude");
+        const bool ramped = s.type == Type::ramped_sine || s.type == Type::ramped_sine_rotation;
+        if (s.type == Type::linear || s.type == Type::linear_rotation) require_finite(s.velocity, key + ".velocity");
+        if (s.type == Type::sine || s.type == Type::ramped_sine) require_finite(s.amplitude, key + ".amplitude");
+        if (ramped) {
+            require(std::isfinite(s.period) && s.period > 0, key + ".period", "must be a finite time > 0 s, got " + num(s.period));
+            require(std::isfinite(s.ramp) && s.ramp >= 0, key + ".ramp", "must be a finite time >= 0 s, got " + num(s.ramp));
+        }
         if (s.type == Type::sine || s.type == Type::sine_rotation) {
             require(std::isfinite(s.period) && s.period > 0, key + ".period", "must be a finite time > 0 s, got " + num(s.period));
             require(std::isfinite(s.phase), key + ".phase", "must be a finite angle (rad), got " + num(s.phase));
         }
-        if (s.type == Type::sine_rotation || s.type == Type::rotation) {
+        if (s.type == Type::sine_rotation || s.type == Type::rotation || s.type == Type::linear_rotation ||
+            s.type == Type::ramped_sine_rotation) {
             require_finite(s.axis_point, key + ".axis_point");
             require_finite(s.axis, key + ".axis");
             require(s.axis[0] != 0 || s.axis[1] != 0 || s.axis[2] != 0, key + ".axis", "must not be the zero vector");
         }
-        if (s.type == Type::sine_rotation) require(std::isfinite(s.angle), key + ".angle", "must be a finite angle (rad), got " + num(s.angle));
-        if (s.type == Type::rotation)
+        if (s.type == Type::sine_rotation || s.type == Type::ramped_sine_rotation) require(std::isfinite(s.angle), key + ".angle", "must be a finite angle (rad), got " + num(s.angle));
+        if (s.type == Type::rotation || s.type == Type::linear_rotation)
             require(std::isfinite(s.angular_velocity), key + ".angular_velocity",
                     "must be a finite angular velocity (rad/s), got " + num(s.angular_velocity));
     }
@@ -259,6 +265,8 @@ void Scene::validate() const {
         require(std::isfinite(render.fov_deg) && render.fov_deg > 0 && render.fov_deg < 180, "render.camera.fov",
                 "must be an angle in (0, 180) degrees");
     }
+    require(std::isfinite(render.surface_spacing) && render.surface_spacing >= 0, "render.surface_spacing",
+            "must be a length in metres, or 0 for the automatic spacing (as fine as a pixel, no finer than dp / 2)");
 
     const double tol = 1e-9 * p.dp;
     auto inside = [&](const Vec3& a) {

@@ -5,6 +5,7 @@
 //   Failures    the errors a bad particle, a collapsed step or a failed device stop the run with
 //   StepRunner  the synchronous step          StepAhead  steps run ahead of the host (one device)
 //   Downloads   particles to the host, and the last good state
+//   FrameCache  what images are drawn with on each device, kept from frame to frame
 // The slab driver (multi/) owns the slabs and what a checkpoint saves of them; views (surface,
 // image) and reports are stateless calls on it (simulation/views.cpp, reports.cpp).
 #pragma once
@@ -13,6 +14,7 @@
 #include "cl/errors.hpp"
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
+#include "render/frame_cache.hpp"
 #include "simulation/downloads.hpp"
 #include "simulation/failures.hpp"
 #include "simulation/run_state.hpp"
@@ -41,6 +43,7 @@ struct Simulation::Impl {
     simulation::StepRunner runner;
     simulation::StepAhead ahead;
     simulation::Downloads downloads;
+    render::FrameCache frames;  // the images' kernels and buffers, kept between frames (views.cpp)
 
     Impl(const Scene& s, const Options& o, const std::function<simulation::Source(const device::Grid&)>& source_of)
         : scene(s),

@@ -5,7 +5,29 @@
 #include "render/scene_image.hpp"
 #include "surface/extract.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace clsph {
+namespace {
+
+// The free surface an image draws (render.surface_spacing): sampled as finely as a pixel at the
+// camera's target, but no finer than dp / 2 (what clsph surface writes). Triangles smaller than a
+// pixel cost time and do not show.
+SurfaceOptions image_surface(const Scene& scene, const CameraView& camera) {
+    SurfaceOptions o;
+    if (scene.render.surface_spacing > 0) {
+        o.spacing = scene.render.surface_spacing;
+        return o;
+    }
+    double distance = 0;
+    for (std::size_t k = 0; k < 3; ++k) distance += (camera.target[k] - camera.eye[k]) * (camera.target[k] - camera.eye[k]);
+    const double pixels_per_unit = 0.5 * camera.height / std::tan(0.5 * camera.fov_deg * 3.14159265358979323846 / 180.0);
+    o.spacing = std::max(0.5 * scene.physics.dp, std::sqrt(distance) / pixels_per_unit);
+    return o;
+}
+
+}  // namespace
 
 std::vector<ProbeSample> Simulation::sample_probes() {
     auto& m = *impl_;
@@ -45,11 +67,11 @@ Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
     if (m.scene.render.method == RenderMethod::surface)
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it; each draws its own part.
-            const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, {});
-            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style);
+            const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, image_surface(m.scene, camera));
+            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style, m.frames);
         });
     return cl_rt::guarded("rendering an image by splats", "",
-                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style); });
+                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style, m.frames); });
 }
 
 }  // namespace clsph
