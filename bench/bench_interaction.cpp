@@ -3,11 +3,16 @@
 // launch events (median of repeats after warm-up), checked against the fine form, and what a warp
 // executes: candidates, hits, the fine scheme's pair slots (candidate steps with a hit in some lane
 // of 32) and a masked scheme's (per batch of 32 steps, the busiest lane's hits), from
-// kernels/interaction_stats.cl; and the loop with no pair terms (distances only).
+// kernels/interaction_stats.cl; and the loop with no pair terms (distances only). With the clusters
+// form among them: its list build alone, its candidates and a warp's candidate steps
+// (kernels/clusters.cl cluster_counts).
 #include "spheric2_scene.hpp"
 
 #include "bench_util.hpp"
+#include "cl/kernel_args.hpp"
 #include "device/cell_pipeline.hpp"
+#include "device/cluster_list.hpp"
+#include "device/sizing.hpp"
 #include "device/physics.hpp"
 
 #include <CLI/CLI.hpp>
@@ -35,6 +40,43 @@ void set_loop_args(cl::Kernel& k, const device::ParticleStore& ps, const device:
     k.setArg(4, ps.pos.get());
     k.setArg(5, ps.vals.get());
     k.setArg(6, cp.ranges().get());
+}
+
+// The clusters form: what building its lists costs, and what its pass executes against fine
+// (kernels/clusters.cl cluster_counts).
+void cluster_counts(cl_rt::Device& d, device::ParticleStore& ps, const device::CellPipeline& cp,
+                    const device::Grid& grid, float support2, int warmup, int repeats, double fine_candidates) {
+    device::ClusterList list(d, grid, support2);
+    const auto s = bench::measure(warmup, repeats, [&] { return bench::time_launches(d, [&] { list.build(ps, cp); }); });
+    const std::size_t n = ps.ranges.owned;
+    auto k = d.kernel("clusters.cl", "cluster_counts", grid.kernel_options() + list.kernel_options());
+    const std::size_t groups = (n + 31) / 32;
+    auto counts = d.alloc(groups * 4 * sizeof(cl_uint), "cluster counts");
+    cl_rt::set_args(k, ps.ranges.first_owned(), ps.ranges.end_owned(), grid.params(), support2, ps.pos, ps.vals,
+                    cp.ranges(), cp.cell_start(), list.begins(), list.masks(), counts);
+    d.launch("stats.cluster_counts", k, groups * 32, 32);
+    std::vector<cl_uint> c(groups * 4);
+    d.read(counts, c.data(), c.size());
+    double candidates = 0, hits = 0, steps = 0, fine_steps = 0;
+    for (std::size_t g = 0; g < groups; ++g) {
+        candidates += c[4 * g];
+        hits += c[4 * g + 1];
+        steps += c[4 * g + 2];
+        fine_steps += c[4 * g + 3];
+    }
+    std::printf("\nclusters of %zu: list build %.3f ms (%.3f-%.3f; included in the form's time above), %zu cluster "
+                "indices (%.1f bytes a particle of lists); per particle %.0f candidates, %.0f within the support (hit "
+                "rate %.1f %%); a warp of 32 runs %.2f candidate steps per candidate of its lanes (fine: %.2f, %.0f "
+                "candidates a particle)\n",
+                device::sizing::kClusterSize, 1e3 * s.median, 1e3 * s.min, 1e3 * s.max, list.capacity(),
+                double(device::sizing::cluster_begin_bytes(list.capacity()) +
+                       (device::sizing::cluster_boxes_borrowed(list.capacity(), ps.scratch.bytes())
+                            ? 0
+                            : device::sizing::cluster_box_bytes(list.capacity())) +
+                       device::sizing::cluster_mask_bytes(list.capacity(), grid.rows(), grid.reach())) /
+                    double(n),
+                candidates / double(n), hits / double(n), 100 * hits / candidates, 32 * steps / candidates,
+                32 * fine_steps / std::max(1.0, fine_candidates), fine_candidates / double(n));
 }
 
 void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats,
@@ -124,6 +166,8 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
                     1e3 * s.max, ratio, deviation.c_str());
     }
     std::printf("\n%.3g neighbour pairs (self excluded) per force pass\n", hits - double(n));
+    if (std::find(forms.begin(), forms.end(), Interaction::clusters) != forms.end()) 
+        cluster_counts(d, ps, cp, grid, support2, warmup, repeats, candidates);
 }
 
 }  // namespace
@@ -134,7 +178,7 @@ int main(int argc, char** argv) {
     double dp = 0.006;
     int repeats = 10, warmup = 2;
     std::vector<int> reaches;
-    std::vector<std::string> names{"fine", "lanes", "coarse"};
+    std::vector<std::string> names{"fine", "lanes", "coarse", "clusters"};
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");

@@ -1,8 +1,11 @@
 // The neighbour iteration every interaction kernel uses, written once. An interaction file defines
 // what it needs from each neighbour and what it does with a pair, then includes this header, which
-// defines the kernel INTERACTION_NAME in one of three schemes (-DCLSPH_LANES, -DCLSPH_COARSE):
+// defines the kernel INTERACTION_NAME in one of four schemes (-DCLSPH_LANES, -DCLSPH_CLUSTERS,
+// -DCLSPH_COARSE):
 //   fine   (default): a work-item per particle walks its cell's neighbour rows in global memory;
 //   lanes (CPU form): a work-item per cell, its particles in vector lanes (-DCLSPH_LANES=8|16);
+//   clusters        : as fine, the candidates from the cluster-pair lists of clusters.cl
+//                     (-DCLSPH_CLUSTERS=4|8 particles a cluster, -DCLSPH_MASK_BITS=32|64);
 //   coarse          : a work-group per cell stages each neighbour row in local memory in tiles of
 //                     WG particles, and each work-item computes one particle of the cell.
 //
@@ -18,7 +21,7 @@
 //   PAIR(st, self, nb, i, j, rij, r2)   statement, for every j (i itself included) with r2 < support2;
 //                            rij = x_j - x_i
 //   STATE_STORE(st, i)       statement writing the result for particle i
-// and may define (the fine scheme only; the others compute every particle):
+// and may define (the fine and clusters schemes only; the others compute every particle):
 //   SKIP_PARTICLE(self)      true for a particle i that needs no neighbour loop (index i in scope)
 //   STORE_SKIPPED(i)         statement writing such a particle's result
 // Particles [first, last) are computed; neighbours come from all of [0, n_active) (ghosts included).
@@ -92,6 +95,90 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
         }
         LANES_STORE(st, base, count);
     }
+}
+
+#elif defined(CLSPH_CLUSTERS)
+
+// clusters: a work-item per particle, as fine, but each row's candidates come from the cluster-pair
+// list of the particle's cluster (clusters.cl): per row a bit mask over the row's clusters, whose
+// set bits in increasing order give the clusters, each's particles in increasing order. The rows'
+// listed particles are a superset of the pairs within the support, in the fine form's order, and
+// each candidate is computed exactly as there: the sums are the fine form's, bit for bit. The
+// particles of a cluster share its list, so the lanes of a cluster take the same branches up to
+// the support test. A row with more clusters than a mask holds is tested whole.
+#if CLSPH_MASK_BITS == 64
+#define MASK_T ulong
+#define MASK_LOW(m) (63u - (uint)clz((m) & (0ul - (m))))
+#else
+#define MASK_T uint
+#define MASK_LOW(m) (31u - clz((m) & (0u - (m))))
+#endif
+#define CS CLSPH_CLUSTERS
+
+// One candidate j of the row whose offset is row_offset (the fine form's body).
+#define CLUSTER_CANDIDATE(j)                                                          \
+    do {                                                                              \
+        const float4 pj = pos[j];                                                     \
+        float3 rij = pj.xyz + row_offset;                                             \
+        COMP(rij, AXIS_B) += (float)((int)(pos_key(pj) - centre)) * g.cell_b;         \
+        const float r2 = dot(rij, rij);                                               \
+        if (r2 < support2) {                                                          \
+            NEIGHBOUR_T nb;                                                           \
+            nb.pos = pj;                                                              \
+            LOAD_NEIGHBOUR(nb, j);                                                    \
+            PAIR(st, self, nb, i, j, rij, r2);                                        \
+        }                                                                             \
+    } while (0)
+
+__kernel void INTERACTION_NAME(const uint first, const uint last, const GridParams g, const float support2,
+                               __global const float4* pos, __global const uint* cell_of,
+                               __global const uint2* ranges, __global const uint* cell_start,
+                               __global const uint* cluster_begin, __global const MASK_T* masks INTERACTION_ARGS) {
+    const uint i = first + (uint)get_global_id(0);
+    if (i >= last) return;
+    NEIGHBOUR_T self;
+    self.pos = pos[i];
+    LOAD_NEIGHBOUR(self, i);
+#ifdef SKIP_PARTICLE
+    if (SKIP_PARTICLE(self)) {
+        STORE_SKIPPED(i);
+        return;
+    }
+#endif
+    const uint key_i = pos_key(self.pos);
+    STATE_T st;
+    STATE_INIT(st, i, self);
+    const uint c = cell_of[i];
+    const uint s = cell_start[c];
+    const uint id = c + s / CS + (i - s) / CS;
+    const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
+    const uint b_i = key_b(g, key_i);
+    for (uint r = 0; r < ROWS; ++r) {
+        const uint2 range = ranges[c * ROWS + r];
+        if (range.x >= range.y) continue;
+        const int ds = row_ds(r), da = row_da(r);
+        int a2 = a_i + da;
+        if (a2 < 0) a2 += (int)g.n_a;
+        if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+        const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
+        float3 row_offset = -self.pos.xyz;
+        COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
+        COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
+        const uint jc0 = cell_of[range.x] + range.x / CS;
+        const uint count = cell_of[range.y - 1u] + 1u + range.y / CS - jc0;
+        if (count > CLSPH_MASK_BITS) {
+            for (uint j = range.x; j < range.y; ++j) CLUSTER_CANDIDATE(j);
+            continue;
+        }
+        MASK_T m = masks[id * ROWS + r];
+        while (m != 0) {
+            const uint jc = jc0 + MASK_LOW(m);
+            m &= m - (MASK_T)1;
+            const uint jb = cluster_begin[jc], je = cluster_begin[jc + 1u];
+            for (uint j = jb; j < je; ++j) CLUSTER_CANDIDATE(j);
+        }
+    }
+    STATE_STORE(st, i);
 }
 
 #elif !defined(CLSPH_COARSE)

@@ -166,6 +166,7 @@ int dry_run(const Scene& scene, const RunArgs& args, const RunPlan& plan) {
     Options opts;
     opts.synchronous = args.synchronous;
     opts.balance = balance_mode_from_name(args.balance);  // the first cuts (several devices)
+    if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);  // clusters: its lists
     const auto all = list_devices();
     std::vector<DeviceInfo> selected;
     for (auto i : select_devices(all, args.devices.empty() ? default_device_spec() : args.devices)) selected.push_back(all[i]);

@@ -78,7 +78,7 @@ class Simulation(_clsph.Simulation):
     scene: a Scene, a dict (docs/scenes.md) or a path to a JSON scene file; overrides as for
     clsph.scene(). devices: as `clsph run --devices` ("" every GPU, else every device; "cpu",
     "gpu", "all", indices "0,2"). interaction: the force pass's form ("auto", "fine", "lanes",
-    "coarse"). profile: time every kernel (Simulation.profile()).
+    "coarse", "clusters"). profile: time every kernel (Simulation.profile()).
 
     step() takes one step, run_until(t, callback) steps to simulated time t; particles() and
     probes() read the state back as NumPy arrays, image(camera=...) renders it."""

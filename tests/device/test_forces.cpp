@@ -1,5 +1,6 @@
 // The force pass against a CPU implementation of the same formulas (kernels/forces.cl), every
-// device, both iteration schemes, each diffusion variant, viscosity on and off, both kernels.
+// device, every interaction form, each diffusion variant, viscosity on and off, both kernels; the
+// clusters form bitwise the fine form (the same terms summed in the same order).
 #include "device/physics.hpp"
 #include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
@@ -7,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 
 using namespace clsph;
 using namespace clsph::device;
@@ -145,7 +147,8 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                               {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
-        for (const auto& c : configs)
+        for (const auto& c : configs) {
+            std::vector<float> fine_acc, fine_rho;  // the clusters form sums the same terms in the same order
             for (const Interaction form : interaction_forms()) {
                 CAPTURE(static_cast<int>(c.diffusion));
                 CAPTURE(c.alpha);
@@ -198,7 +201,17 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                                                    << ", CPU " << want << " (scale " << e.scale[i] << ")");
                     }
                 CHECK(bad == 0);
+                std::vector<float> rho(after.density.begin(), after.density.end());
+                if (form == Interaction::fine) {
+                    fine_acc = acc;
+                    fine_rho = rho;
+                } else if (form == Interaction::clusters) {
+                    REQUIRE(fine_acc.size() == acc.size());
+                    CHECK(std::memcmp(fine_acc.data(), acc.data(), acc.size() * sizeof(float)) == 0);
+                    CHECK(std::memcmp(fine_rho.data(), rho.data(), rho.size() * sizeof(float)) == 0);
+                }
             }
+        }
     }
 }
 }

@@ -170,6 +170,42 @@ TEST_CASE("the plan predicts a floating body's buffers, buffer by buffer") {
     }
 }
 
+TEST_CASE("the plan predicts the clusters form's lists, buffer by buffer, and drops them where they do not fit") {
+    const Scene s = tiny_dam_break();
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        Options o;
+        o.interaction = Interaction::clusters;
+        o.synchronous = true;
+        check_prediction(s, spec_of(d), o, 3, false, true);
+        o.synchronous = false;
+        check_prediction(s, spec_of(d), o);
+    }
+    // A device with room for the fine form but not for the lists: the plan is fine's, and says so.
+    const Particles p = s.build_particles();
+    DeviceInfo small = test::devices().front()->info();
+    Options clusters, fine;
+    clusters.interaction = Interaction::clusters;
+    fine.interaction = Interaction::fine;
+    const MemoryPlan with = plan_memory(s, p, {small}, clusters), without = plan_memory(s, p, {small}, fine);
+    REQUIRE(with.fits());
+    CHECK(with.interaction == Interaction::clusters);
+    std::size_t list_bytes = 0;
+    for (const auto& b : with.devices[0].buffers)
+        if (b.name.rfind("cluster", 0) == 0) list_bytes += b.bytes;
+    CHECK(list_bytes > 0);
+    CHECK(with.devices[0].total_bytes() == without.devices[0].total_bytes() + list_bytes);
+    small.global_memory = without.devices[0].total_bytes() + list_bytes / 2;
+    const MemoryPlan fallback = plan_memory(s, p, {small}, clusters);
+    CHECK(fallback.fits());
+    CHECK(fallback.interaction == Interaction::fine);
+    CHECK(fallback.devices[0].total_bytes() == without.devices[0].total_bytes());
+    CHECK(std::any_of(fallback.notes.begin(), fallback.notes.end(),
+                      [](const std::string& n) { return n.find("clusters") != std::string::npos; }));
+    // The largest scene is the fine form's: the lists never shrink it.
+    CHECK(fallback.largest_particles() == plan_memory(s, p, {small}, fine).largest_particles());
+}
+
 // The split is the balancer's first cuts over the census (equal work: boundary particles weigh
 // 0.4); a store given more than its initial capacity grows, at the upload in one allocation, at the
 // exchanges keeping its particles (old and new arrays at the peak): small_dam's device 0 does with

@@ -152,3 +152,24 @@ TEST_CASE("mesh paths are resolved against the scene file's directory") {
     // The resolved scene names the mesh by its absolute path, so it reads back from anywhere.
     CHECK(clsph::Scene::from_json_text(s.to_json(), "copy.json").meshes[0].path == s.meshes[0].path);
 }
+
+TEST_CASE("run.interaction: every form by name, written back by to_json; another name is refused naming the key") {
+    const std::string base = R"({"physics": {"dp": 0.05}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+            "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "run": {"interaction": ")";
+    for (const auto form : clsph::interaction_forms()) {
+        const std::string name = clsph::interaction_name(form);
+        CAPTURE(name);
+        const clsph::Scene s = clsph::Scene::from_json_text(base + name + "\"}}", "forms.json");
+        CHECK(s.run.interaction == form);
+        CHECK(clsph::Scene::from_json_text(s.to_json(), "back.json").run.interaction == form);
+    }
+    try {
+        (void)clsph::Scene::from_json_text(base + "cluster\"}}", "bad.json");
+        FAIL("an unknown form was accepted");
+    } catch (const clsph::Error& e) {
+        const std::string what = e.what();
+        CAPTURE(what);
+        CHECK(what.find("interaction") != std::string::npos);
+        CHECK(what.find("clusters") != std::string::npos);  // the choices are listed
+    }
+}

@@ -12,9 +12,10 @@ enum class Interaction {
     fine,       // a work-item per particle, every candidate tested and summed in turn
     lanes,      // a work-item per cell, its particles in 8 or 16 vector lanes (the CPU form)
     coarse,     // a work-group per cell, neighbour rows staged in local memory (the paper's scheme)
+    clusters,   // a work-item per particle, candidates from cluster-pair lists (docs/interaction.md)
 };
 
-// "auto", "fine", "lanes", "coarse".
+// "auto", "fine", "lanes", "coarse", "clusters".
 const char* interaction_name(Interaction form);
 // The inverse; throws clsph::Error listing the names for anything else.
 Interaction interaction_from_name(const std::string& name);

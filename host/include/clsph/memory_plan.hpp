@@ -51,6 +51,10 @@ struct MemoryPlan {
     std::vector<DeviceMemoryPlan> devices;  // one per slab: a device of several slabs appears in a row
     // Caveats of this prediction for this run (several devices: the split is estimated, ...).
     std::vector<std::string> notes;
+    // The interaction form the buffers are planned for: the one asked for (Options::interaction,
+    // else the scene's run.interaction), except that `clusters`, whose lists would not fit, falls
+    // back to `fine` (a note says so), which is what Simulation then runs.
+    Interaction interaction = Interaction::automatic;
 
     // The most scene particles for which the device of entry d still fits its global memory (the
     // buffers of all its slabs that scale, scaled; the fixed ones kept; more slabs where a buffer

@@ -12,7 +12,8 @@ struct Named {
 constexpr Named kNames[] = {{Interaction::automatic, "auto"},
                             {Interaction::fine, "fine"},
                             {Interaction::lanes, "lanes"},
-                            {Interaction::coarse, "coarse"}};
+                            {Interaction::coarse, "coarse"},
+                            {Interaction::clusters, "clusters"}};
 }  // namespace
 
 const char* interaction_name(Interaction form) {
@@ -31,7 +32,7 @@ Interaction interaction_from_name(const std::string& name) {
 }
 
 std::vector<Interaction> interaction_forms() {
-    return {Interaction::fine, Interaction::lanes, Interaction::coarse};
+    return {Interaction::fine, Interaction::lanes, Interaction::coarse, Interaction::clusters};
 }
 
 }  // namespace clsph

@@ -88,6 +88,8 @@ struct Context {
     const Options& options;
     std::size_t slabs, particles, rows, probe_points;
     bool mdbc, ahead, any_boundary;
+    bool clusters;  // the clusters interaction form: its lists (cluster_list.cpp)
+    int reach;
     std::uint32_t max_boundary_id;
     std::size_t motion_segments;  // of every moving solid and a row per floating body (0: none)
     std::size_t floating_bodies;
@@ -131,6 +133,12 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     add("cell starts", (cc + 1) * u32);
     add("neighbour ranges", cc * c.rows * 2 * u32);
     add("cell count", 2 * u32, false);
+    if (c.clusters) {  // cluster_list.cpp reserve(): for the store's and the tables' capacity
+        const std::size_t ids = sz::cluster_indices(cap, cc);
+        add("cluster starts", sz::cluster_begin_bytes(ids));
+        if (!sz::cluster_boxes_borrowed(ids, cap * f4)) add("cluster boxes", sz::cluster_box_bytes(ids));
+        add("cluster-pair masks", sz::cluster_mask_bytes(ids, c.rows, c.reach));
+    }
     // physics.cpp's constructor.
     add("kick reductions", sz::kick_groups(x.device.compute_units) * sz::kKickFloats * sizeof(float), false);
     add("failure flag", u32, false);
@@ -204,7 +212,8 @@ void peak_of_growths(const Context& c, const Share& s, std::size_t d, DeviceMemo
         // inbox before the first exchange's.
         auto later = [&, tables = tables, inbox = inbox](const PlannedBuffer& b) {
             return b.name == "probe points" || b.name == "probe sums" ||
-                   (!tables && (b.name == "cell keys" || b.name == "cell starts" || b.name == "neighbour ranges")) ||
+                   (!tables && (b.name == "cell keys" || b.name == "cell starts" || b.name == "neighbour ranges" ||
+                                 b.name.rfind("cluster", 0) == 0)) ||
                    (!inbox && b.name.rfind("exchange inbox: ", 0) == 0);
         };
         g.buffers.erase(std::remove_if(g.buffers.begin(), g.buffers.end(), later), g.buffers.end());
@@ -252,6 +261,9 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                     scene.boundary_method == BoundaryMethod::mdbc,
                     ahead,
                     census.any_boundary,
+                    (options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction) ==
+                        Interaction::clusters,
+                    grid_of(scene).reach(),
                     census.max_boundary_id,
                     [&] {
                         std::size_t n = 0;

@@ -114,8 +114,31 @@ namespace detail {
 
 constexpr std::size_t most_slabs = 64;  // per device
 
+namespace {
+MemoryPlan plan_form(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
+                     const Options& options);
+}  // namespace
+
 MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
                        const Options& options) {
+    // The clusters form's lists where they fit; where not, the list-free fine form (the largest
+    // scene a device runs does not shrink for them).
+    const Interaction asked = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
+    MemoryPlan plan = plan_form(scene, census, devices, options);
+    plan.interaction = asked;
+    if (asked != Interaction::clusters || plan.fits()) return plan;
+    Options fine = options;
+    fine.interaction = Interaction::fine;
+    MemoryPlan without = plan_form(scene, census, devices, fine);
+    if (!without.fits()) return plan;
+    without.interaction = Interaction::fine;
+    without.notes.push_back("the clusters interaction form's lists would not fit: the run takes the fine form");
+    return without;
+}
+
+namespace {
+MemoryPlan plan_form(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,
+                     const Options& options) {
     // One slab per device, then one more at a time on the devices where a slab's largest buffer
     // exceeds the largest allocation (the cuts move with the slab count, so plan again). Slabs
     // hold their neighbours' halo columns too, so on a narrow domain more slabs stop helping: a
@@ -161,6 +184,7 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
         return plan;
     }
 }
+}  // namespace
 
 }  // namespace detail
 

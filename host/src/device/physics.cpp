@@ -74,6 +74,10 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     switch (form_) {
     case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
+    case Interaction::clusters:
+        clusters_ = std::make_unique<ClusterList>(device, grid, sp_.support2);
+        interaction += clusters_->kernel_options();
+        break;
     default: break;
     }
     if (*device.quirks().interaction_options) interaction += std::string(" ") + device.quirks().interaction_options;
@@ -109,9 +113,10 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
 }
 
 namespace {
-// Arguments common to every interaction kernel of neighbour_loop.h.
-void set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& cells, const GridParams& g,
-                   const SphParams& sp, bool per_cell) {
+// Arguments common to every interaction kernel of neighbour_loop.h (the clusters form's lists
+// after the ranges); returns the index of the interaction file's first argument after sp.
+cl_uint set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& cells, const GridParams& g,
+                      const SphParams& sp, bool per_cell, const ClusterList* clusters) {
     k.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
     k.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
     k.setArg(2, g);
@@ -119,7 +124,14 @@ void set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& c
     k.setArg(4, ps.pos.get());
     k.setArg(5, per_cell ? cells.cell_start().get() : ps.vals.get());
     k.setArg(6, cells.ranges().get());
-    k.setArg(7, sp);
+    cl_uint a = 7;
+    if (clusters) {
+        k.setArg(a++, cells.cell_start().get());
+        k.setArg(a++, clusters->begins().get());
+        k.setArg(a++, clusters->masks().get());
+    }
+    k.setArg(a++, sp);
+    return a;
 }
 }  // namespace
 
@@ -136,11 +148,12 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
             device_.launch(name, k, n, wg_);
     };
     const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
+    if (clusters_) clusters_->build(ps, cells);  // positions and tables are new every step
     if (summation_) {
-        set_loop_args(density_k_, ps, cells, g, sp_, per_cell);
-        density_k_.setArg(8, ps.velrho.get());
-        density_k_.setArg(9, ps.id.get());
-        density_k_.setArg(10, ps.scratch.get());  // free between reorders: new densities
+        const cl_uint a = set_loop_args(density_k_, ps, cells, g, sp_, per_cell, clusters_.get());
+        density_k_.setArg(a, ps.velrho.get());
+        density_k_.setArg(a + 1, ps.id.get());
+        density_k_.setArg(a + 2, ps.scratch.get());  // free between reorders: new densities
         launch("sph.density", density_k_);
         commit_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
         commit_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
@@ -148,10 +161,10 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         commit_k_.setArg(3, ps.velrho.get());
         device_.launch("sph.commit_density", commit_k_, n, wg_);
     }
-    set_loop_args(forces_k_, ps, cells, g, sp_, per_cell);
-    forces_k_.setArg(8, ps.velrho.get());
-    forces_k_.setArg(9, ps.id.get());
-    forces_k_.setArg(10, out.get());
+    const cl_uint a = set_loop_args(forces_k_, ps, cells, g, sp_, per_cell, clusters_.get());
+    forces_k_.setArg(a, ps.velrho.get());
+    forces_k_.setArg(a + 1, ps.id.get());
+    forces_k_.setArg(a + 2, out.get());
     launch("sph.forces", forces_k_);
     if (mdbc_) boundary_densities(ps, cells);
 }

@@ -6,6 +6,7 @@
 #include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
 #include "device/cell_pipeline.hpp"
+#include "device/cluster_list.hpp"
 #include "device/floating_table.hpp"
 #include "device/grid.hpp"
 #include "device/motion_table.hpp"
@@ -53,6 +54,8 @@ public:
     // Build options of kernels that evaluate SPH sums at points (probes, the free surface).
     const std::string& point_options() const { return point_options_; }
     Interaction interaction() const { return form_; }  // the form this device runs (never automatic)
+    // The clusters form's lists (null for the other forms): built before every forces().
+    const ClusterList* cluster_list() const { return clusters_.get(); }
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
     // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
@@ -154,6 +157,7 @@ private:
     std::size_t floating_bodies_ = 0, floating_ids_ = 0, floating_row_ = 0, floating_groups_ = 0, floating_capacity_ = 0;
     bool floating_summed_ = false;  // enqueue_floating ran since the last add_floating_sums
     std::size_t wg_, coarse_wg_, kick_groups_;
+    std::unique_ptr<ClusterList> clusters_;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;

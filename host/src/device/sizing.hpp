@@ -42,6 +42,27 @@ inline std::size_t cell_capacity(std::size_t cells, double cell_headroom) {
     return cells + static_cast<std::size_t>(static_cast<double>(cells) * cell_headroom) + 16;
 }
 
+// The clusters interaction form (cluster_list.cpp, kernels/clusters.cl): particles per cluster, the
+// cluster indices the lists need for a store of `particles` and tables of `cells` (cells +
+// particles / size and the end sentinel), the bits of a row's mask (reach 1: rows of three
+// support-wide cells need 64) and the bytes of each index: the first particle, the bounding box
+// (two float4) and one mask per neighbour row.
+inline constexpr std::size_t kClusterSize = 4;
+inline std::size_t cluster_indices(std::size_t particles, std::size_t cells) {
+    return cells + particles / kClusterSize + 2;
+}
+inline std::size_t cluster_mask_bits(int reach) { return reach == 1 ? 64 : 32; }
+inline std::size_t cluster_begin_bytes(std::size_t indices) { return indices * kUint; }
+inline std::size_t cluster_box_bytes(std::size_t indices) { return indices * 2 * kFloat4; }
+// The boxes live only while the lists are built: in the store's reorder scratch (free then)
+// where they fit, else in a buffer of their own.
+inline bool cluster_boxes_borrowed(std::size_t indices, std::size_t scratch_bytes) {
+    return cluster_box_bytes(indices) <= scratch_bytes;
+}
+inline std::size_t cluster_mask_bytes(std::size_t indices, std::size_t rows, int reach) {
+    return indices * rows * cluster_mask_bits(reach) / 8;
+}
+
 // The particles an exchange box (outbox, inbox) or the edge sort's arrays hold for n: a quarter
 // more and 1024 (so one device has them too, at their least).
 inline std::size_t box_capacity(std::size_t n) { return n + n / 4 + 1024; }

@@ -298,7 +298,8 @@ RunControl read_run(const Json& v) {
     r.fixed_dt = f.number("fixed_dt", r.fixed_dt);
     r.interaction = f.choice("interaction", r.interaction,
                              {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, 
-                              {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse}});
+                              {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse},
+                              {"clusters", Interaction::clusters}});
     return r;
 }
 

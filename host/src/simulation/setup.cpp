@@ -62,9 +62,11 @@ cl_rt::EventSet::Mode wait_mode(WaitMode w) {
     return w == WaitMode::poll ? Mode::poll : w == WaitMode::block ? Mode::block : Mode::callbacks;
 }
 
-multi::DriverOptions driver_options(const Scene& scene, const Options& options, const Checkpoint* c) {
+multi::DriverOptions driver_options(const Scene& scene, const Options& options, const Checkpoint* c,
+                                    Interaction planned) {
     multi::DriverOptions d;
     d.interaction = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
+    if (planned != Interaction::automatic) d.interaction = planned;  // the memory plan's fallback
     d.balance = options.balance == BalanceMode::dynamic ? balance::Mode::dynamic
                 : options.balance == BalanceMode::fixed ? balance::Mode::static_
                                                         : balance::Mode::off;
@@ -87,6 +89,7 @@ Opened open(const Scene& scene, const device::Grid& grid, const Options& options
     if (options.seams) open.max_allocation = options.seams->max_allocation;
     std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
     const scene::LatticePlan* lattice = source.plan ? &*source.plan : nullptr;
+    Interaction planned = Interaction::automatic;
     if (options.ranks) {
         // This rank's devices (dealt from the node's, or its own clause of a per-rank spec). The
         // memory plan is one process's: across ranks a device that runs short says so when it
@@ -103,6 +106,7 @@ Opened open(const Scene& scene, const device::Grid& grid, const Options& options
                                         : plan_memory(scene, source.particles, infos, options);
         check_fits(plan);
         open.slabs = plan.slabs_per_device();
+        planned = plan.interaction;
     }
     Opened o;
     o.devices = cl_rt::open_devices(spec, open);
@@ -112,7 +116,7 @@ Opened open(const Scene& scene, const device::Grid& grid, const Options& options
         d->profiler().trace(options.profile && options.trace);
         devs.push_back(d.get());
     }
-    const auto dopt = driver_options(scene, options, source.checkpoint);
+    const auto dopt = driver_options(scene, options, source.checkpoint, planned);
     // An OpenCL call that throws outside the runtime's wrappers is a DeviceError too.
     o.first = cl_rt::guarded("setting up the devices", "", [&] {
         o.driver = lattice ? std::make_unique<multi::SlabDriver>(devs, grid, scene, *lattice, dopt)
