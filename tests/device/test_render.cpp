@@ -5,6 +5,7 @@
 #include "clsph/render.hpp"
 #include "clsph/simulation.hpp"
 #include "render/renderer.hpp"
+#include "render/scene_image.hpp"
 #include "surface/marching_cubes.hpp"
 #include "support/image.hpp"
 #include "support/scenes.hpp"
@@ -44,6 +45,56 @@ TriangleMesh sphere_mesh(double radius, const Vec3& centre, std::uint32_t n) {
 }  // namespace
 
 TEST_SUITE("render") {
+TEST_CASE("a moved box is drawn where it now is: turned and moved, it covers what a box built there covers") {
+    // Images draw moving and floating boxes at their pose (render::solids_layer): a box turned by a
+    // quarter turn about z through its centre and moved by T must cover the pixels of the box
+    // built at its new place (with its x and y extents swapped), and not those of the box at rest.
+    auto gen = test::rng(1950);
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    SolidBox rest;
+    rest.min = {0.2 + u(gen), 0.4 + u(gen), 0.1};
+    rest.max = {rest.min[0] + 0.3, rest.min[1] + 0.1, 0.3};
+    const Vec3 c{0.5 * (rest.min[0] + rest.max[0]), 0.5 * (rest.min[1] + rest.max[1]), 0.2};
+    const Vec3 shift{0.6 + u(gen), -0.3, 0.05};
+    scene::RigidPose pose;  // x -> R (x - c) + c + shift, R a quarter turn about z
+    pose.R = {0, -1, 0, 1, 0, 0, 0, 0, 1};
+    pose.T = {c[0] + c[1] + shift[0], c[1] - c[0] + shift[1], shift[2]};
+    SolidBox there;  // the same box built at its new place
+    const Vec3 nc{c[0] + shift[0], c[1] + shift[1], c[2] + shift[2]};
+    there.min = {nc[0] - 0.05, nc[1] - 0.15, 0.1 + shift[2]};
+    there.max = {nc[0] + 0.05, nc[1] + 0.15, 0.3 + shift[2]};
+    Scene moved_scene, there_scene;
+    moved_scene.solids = {rest};
+    there_scene.solids = {there};
+    CameraView cam;
+    cam.width = 320;
+    cam.height = 240;
+    cam.eye = {0.7, -2.0, 1.2};
+    cam.target = {0.7, 0.3, 0.2};
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        render::FrameCache cache;
+        render::UploadedLayer a, b, r;
+        const auto moved = cache.renderer(*dev).draw(cam, {render::solids_layer(cache, *dev, moved_scene, {pose}, a)});
+        render::FrameCache other;
+        const auto built = other.renderer(*dev).draw(cam, {render::solids_layer(other, *dev, there_scene, {}, b)});
+        render::FrameCache third;
+        const auto at_rest = third.renderer(*dev).draw(cam, {render::solids_layer(third, *dev, moved_scene, {scene::RigidPose{}}, r)});
+        std::size_t covered = 0, differ = 0, rest_differ = 0;
+        for (std::size_t p = 0; p < moved.depth.size(); ++p) {
+            const bool m = moved.depth[p] != 0xffffffffu, t = built.depth[p] != 0xffffffffu, z = at_rest.depth[p] != 0xffffffffu;
+            covered += t;
+            differ += m != t;
+            rest_differ += z != t;
+        }
+        MESSAGE(covered << " pixels covered by the box built there; " << differ << " differ from the moved box, " << rest_differ
+                        << " from the box at rest");
+        REQUIRE(covered > 500);
+        CHECK(differ <= covered / 100);
+        CHECK(rest_differ > covered / 2);
+    }
+}
+
 TEST_CASE("a sphere's silhouette covers pi r^2 pixels within 2 % on every device") {
     auto gen = test::rng(1900);
     std::uniform_real_distribution<double> u(-0.2, 0.2);

@@ -58,7 +58,7 @@ public:
     void predict(double dt);  // Symplectic
     void correct(double dt);  // after set_forces at the half step
 
-    // Per body the motion table's pose (kernels/motion.cl type 4): R (9, row-major), T = C - C0 (3),
+    // Per body the motion table's pose (kernels/motion.cl type 7): R (9, row-major), T = C - C0 (3),
     // V (3), W (3).
     std::vector<std::array<double, 18>> poses() const;
     static std::array<double, 9> rotation(const std::array<double, 4>& q);

@@ -32,7 +32,7 @@ const UploadedLayer& FrameCache::boxes(cl_rt::Device& device, const std::vector<
     auto& up = per_device_[&device].boxes;
     if (!up) {
         const TriangleMesh mesh = box_mesh(boxes);
-        Layer layer{&mesh, {}, {0.62f, 0.60f, 0.58f}};
+        Layer layer{&mesh, {}, {0.62f, 0.60f, 0.58f}};  // scene_image.cpp kSolid
         for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) layer.triangles.push_back(t);
         up = std::make_unique<UploadedLayer>(renderer(device).upload(layer));
     }

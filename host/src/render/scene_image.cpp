@@ -3,6 +3,7 @@
 #include "render/field.hpp"
 #include "render/renderer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -13,6 +14,8 @@ namespace clsph::render {
 // picture would be drawn by two work-items alone (4 ms of the H200's frame, measured).
 namespace {
 constexpr int kFaceCells = 24;
+constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
+constexpr std::array<std::uint8_t, 3> kBackground{246, 246, 246};
 }  // namespace
 
 TriangleMesh box_mesh(const std::vector<SolidBox>& boxes) {
@@ -44,6 +47,33 @@ TriangleMesh box_mesh(const std::vector<SolidBox>& boxes) {
     return m;
 }
 
+DeviceLayer solids_layer(FrameCache& cache, cl_rt::Device& device, const Scene& scene,
+                         const std::vector<scene::RigidPose>& poses, UploadedLayer& moved) {
+    const scene::RigidPose rest;
+    const bool at_rest = std::all_of(poses.begin(), poses.end(), [&](const scene::RigidPose& p) { return p.R == rest.R && p.T == rest.T; });
+    if (poses.empty() || at_rest) return cache.boxes(device, scene.solids).layer();
+    TriangleMesh all;
+    for (std::size_t i = 0; i < scene.solids.size(); ++i) {
+        const TriangleMesh one = box_mesh({scene.solids[i]});
+        const scene::RigidPose& p = i < poses.size() ? poses[i] : rest;
+        const auto base = static_cast<std::uint32_t>(all.positions.size());
+        for (std::size_t v = 0; v < one.positions.size(); ++v) {
+            const auto& x = one.positions[v];
+            const auto& n = one.normals[v];
+            const Vec3 y = p.apply({x[0], x[1], x[2]});
+            std::array<float, 3> m{};
+            for (std::size_t k = 0; k < 3; ++k) m[k] = static_cast<float>(p.R[3 * k] * n[0] + p.R[3 * k + 1] * n[1] + p.R[3 * k + 2] * n[2]);
+            all.positions.push_back({static_cast<float>(y[0]), static_cast<float>(y[1]), static_cast<float>(y[2])});
+            all.normals.push_back(m);
+        }
+        for (const auto& t : one.triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    Layer layer{&all, {}, kSolid};
+    for (std::uint32_t t = 0; t < all.triangles.size(); ++t) layer.triangles.push_back(t);
+    moved = cache.renderer(device).upload(layer);
+    return moved.layer();
+}
+
 std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) {
     std::vector<std::array<Vec3, 2>> lines;
     for (const auto& w : walls)
@@ -63,8 +93,6 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 
 namespace {
 
-constexpr std::array<float, 3> kWater{0.30f, 0.55f, 0.92f}, kSolid{0.62f, 0.60f, 0.58f};
-constexpr std::array<std::uint8_t, 3> kBackground{246, 246, 246};
 
 // The devices' images composited by depth, the walls' outlines drawn over, on the background.
 Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraView& camera) {
@@ -154,7 +182,8 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
 }
 
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const surface::DeviceParts& surface,
-                   const CameraView& camera, const ImageStyle& style, FrameCache& cache) {
+                   const CameraView& camera, const ImageStyle& style, FrameCache& cache,
+                   const std::vector<scene::RigidPose>& poses) {
     auto& slabs = driver.slabs();
     const std::uint32_t mode = field_mode(style.surface);
     const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
@@ -179,7 +208,8 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                 layers.back().values = &values;
             }
         }
-        if (boxes) layers.push_back(cache.boxes(*slabs[d].device, scene.solids).layer());  // in the same image
+        UploadedLayer moved;
+        if (boxes) layers.push_back(solids_layer(cache, *slabs[d].device, scene, poses, moved));  // in the same image
         if (!shows) {
             shows = slabs[d].device;
             target = r.render(camera, layers);

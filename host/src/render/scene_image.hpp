@@ -7,6 +7,7 @@
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
 #include "render/frame_cache.hpp"
+#include "scene/motion.hpp"
 #include "surface/extract.hpp"
 
 namespace clsph::render {
@@ -19,13 +20,19 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                    const CameraView& camera, const ImageStyle& style = {});
 // The same from the surface where the devices made it (surface::surface_on_devices): each device
 // draws its own part from its own memory; only the images move.
+// `poses`: where each of scene.solids is now (a moving or floating box; empty: every box at rest).
 Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
                    const surface::DeviceParts& surface, const CameraView& camera, const ImageStyle& style,
-                   FrameCache& cache);
+                   FrameCache& cache, const std::vector<scene::RigidPose>& poses);
 
 // The same picture with the water drawn by splats (render.method "splat", render/splat.hpp): no mesh;
 // `style` by a field colours the splats (by_device: drawn as uniform).
 Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
-                  const ImageStyle& style, FrameCache& cache);
+                  const ImageStyle& style, FrameCache& cache, const std::vector<scene::RigidPose>& poses);
+
+// The solid boxes as a layer on `device`: at rest, the cache's (uploaded once); moved (`poses`),
+// their triangles turned and moved, uploaded into `moved`.
+DeviceLayer solids_layer(FrameCache& cache, cl_rt::Device& device, const Scene& scene,
+                         const std::vector<scene::RigidPose>& poses, UploadedLayer& moved);
 
 }  // namespace clsph::render

@@ -46,7 +46,7 @@ Environment environment_of(const Scene& scene, const CameraView& camera) {
 }  // namespace
 
 Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene, const CameraView& camera,
-                  const ImageStyle& style, FrameCache& cache) {
+                  const ImageStyle& style, FrameCache& cache, const std::vector<scene::RigidPose>& poses) {
     auto& slabs = driver.slabs();
     const double radius = kSplatRadius * scene.physics.dp;
     SplatField field;
@@ -74,10 +74,9 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
     }
     if (!water) throw Error("splat: no device holds the run here");
     RenderTarget solids;
-    if (!scene.solids.empty()) {
-        const UploadedLayer& boxes = cache.boxes(*shading, scene.solids);
-        solids = cache.renderer(*shading).render(camera, {boxes.layer()});
-    }
+    UploadedLayer moved;
+    if (!scene.solids.empty())
+        solids = cache.renderer(*shading).render(camera, {solids_layer(cache, *shading, scene, poses, moved)});
     const RenderTarget im = cache.shader(*shading).shade(camera, *water, solids.depth ? &solids : nullptr, environment_of(scene, camera));
     // The shading coloured every pixel (the sky and the ground where nothing else is).
     Image out = cache.finisher(*shading).finish(im, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70}, {0, 0, 0}, true);

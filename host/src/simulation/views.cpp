@@ -2,7 +2,9 @@
 #include "simulation/impl.hpp"
 
 #include "probes/gauges.hpp"
+#include "multi/rigid_bodies.hpp"
 #include "render/scene_image.hpp"
+#include "scene/motion.hpp"
 #include "surface/extract.hpp"
 
 #include <algorithm>
@@ -25,6 +27,29 @@ SurfaceOptions image_surface(const Scene& scene, const CameraView& camera) {
     const double pixels_per_unit = 0.5 * camera.height / std::tan(0.5 * camera.fov_deg * 3.14159265358979323846 / 180.0);
     o.spacing = std::max(0.5 * scene.physics.dp, std::sqrt(distance) / pixels_per_unit);
     return o;
+}
+
+// Where each solid box is now (images draw it there): a prescribed motion's pose at the run's
+// time, a floating body's where its particles were last put (centre and orientation); empty when
+// no box moves.
+std::vector<scene::RigidPose> solid_poses(const Scene& scene, const multi::SlabDriver& driver, double time) {
+    const auto* rb = driver.rigid_bodies();
+    const bool moving = std::any_of(scene.solids.begin(), scene.solids.end(), [](const SolidBox& b) { return b.motion.moves(); });
+    if (!moving && !(rb && rb->size() > 0)) return {};
+    std::vector<scene::RigidPose> poses(scene.solids.size());
+    for (std::size_t i = 0; i < scene.solids.size(); ++i)
+        if (scene.solids[i].motion.moves()) poses[i] = scene::motion_pose(scene.solids[i].motion, time);
+    if (rb)
+        for (std::size_t b = 0; b < rb->size(); ++b) {
+            const auto& body = rb->bodies()[b];
+            const auto& s = rb->states()[b];
+            scene::RigidPose p;
+            p.R = multi::RigidBodies::rotation(s.q_p);
+            for (std::size_t k = 0; k < 3; ++k)  // x -> x_p + R (x - centre)
+                p.T[k] = s.x_p[k] - (p.R[3 * k] * body.centre[0] + p.R[3 * k + 1] * body.centre[1] + p.R[3 * k + 2] * body.centre[2]);
+            if (body.solid < poses.size()) poses[body.solid] = p;
+        }
+    return poses;
 }
 
 }  // namespace
@@ -89,10 +114,10 @@ Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it; each draws its own part.
             const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, image_surface(m.scene, camera));
-            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style, m.frames);
+            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style, m.frames, solid_poses(m.scene, m.driver, m.state.info.time));
         });
     return cl_rt::guarded("rendering an image by splats", "",
-                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style, m.frames); });
+                          [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style, m.frames, solid_poses(m.scene, m.driver, m.state.info.time)); });
 }
 
 }  // namespace clsph
