@@ -27,6 +27,7 @@ bool written_by_a_run(const std::string& name) {
     if (starts_with(name, "surge_front.")) return true;
     if (starts_with(name, "surface_") && (ends_with(name, ".vtp") || ends_with(name, ".ply"))) return true;
     if ((starts_with(name, "render_") && ends_with(name, ".png")) || name == "render.mp4") return true;
+    if (name == "last_good.vtu" || name == "last_good.csv") return true;  // a failed run's state: not this run's
     return ends_with(name, ".pvd") || name == "stats.csv" || name == "run.json";
 }
 

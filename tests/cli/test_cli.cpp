@@ -24,6 +24,7 @@ TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     // --force clears what an earlier run left and nothing else.
     fs::create_directories(out);
     std::ofstream(out + "/frame_00099.vtu") << "stale";
+    std::ofstream(out + "/last_good.vtu") << "an earlier run's failure";
     std::ofstream(out + "/keep.txt") << "the user's";
     std::string log;
     const int code = run(args({{"run", scene}, tiny, {"--until", "0.01", "--every", "0.005", "--csv", "--force", "--out", out}}), log);
@@ -32,6 +33,7 @@ TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     CHECK(log.find("completed") != std::string::npos);
     CHECK(fs::exists(out + "/keep.txt"));
     CHECK_FALSE(fs::exists(out + "/frame_00099.vtu"));
+    CHECK_FALSE(fs::exists(out + "/last_good.vtu"));  // this run did not fail: no last good state of another's
 
     // The collection: one entry per frame file, at 0, 0.005 and 0.01 s.
     const auto pvd = clsph::read_pvd(out + "/dam_break.pvd");
