@@ -41,5 +41,5 @@ if [ "$browser" = 1 ]; then bash scripts/browser_check.sh "$build"; fi
 # cli suites with CLSPH_SANITIZE=1 (about 5 minutes more on two cores).
 fuzz_seconds=${CLSPH_FUZZ_SECONDS:-30}
 if [ "$fuzz_seconds" != 0 ]; then bash scripts/fuzz.sh "$fuzz_seconds"; fi
-if [ "${CLSPH_SANITIZE:-${CLSPH_CI_SANITIZE:-0}}" = 1 ]; then bash scripts/sanitize.sh; fi
+if [ "${CLSPH_SANITIZE:-0}" = 1 ]; then bash scripts/sanitize.sh; fi
 echo "clsph: all tests passed"
