@@ -9,6 +9,7 @@
 #include "device/physics.hpp"
 #include "device/sizing.hpp"
 #include "support/scenes.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -50,30 +51,9 @@ double box_distance(const std::array<double, 6>& a, const std::array<double, 6>&
     return std::sqrt(d2);
 }
 
-// Particles by id, as raw bytes (position, velocity, density).
-using State = std::map<std::uint32_t, std::array<unsigned char, 3 * sizeof(double) + 4 * sizeof(float)>>;
-State state_of(Simulation& sim) {
-    const Particles p = sim.particles();
-    State s;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        auto& b = s[p.id[i]];
-        std::memcpy(b.data(), p.position[i].data(), 3 * sizeof(double));
-        const float v[4] = {p.velocity[i][0], p.velocity[i][1], p.velocity[i][2], p.density[i]};
-        std::memcpy(b.data() + 3 * sizeof(double), v, sizeof v);
-    }
-    return s;
-}
-
-long differing(const State& a, const State& b) {
-    if (a.size() != b.size()) return -1;
-    long n = 0;
-    for (const auto& [id, x] : a) {
-        const auto it = b.find(id);
-        if (it == b.end()) return -1;
-        n += x != it->second;
-    }
-    return n;
-}
+using test::differing;
+using test::State;
+using test::state_of;
 
 // The paddle tank of the motion suite, smaller: a solid box moving through the water.
 Scene moving_paddle(bool mdbc) {

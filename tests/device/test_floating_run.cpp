@@ -8,6 +8,7 @@
 #include "clsph/testing.hpp"
 #include "support/cut_schedules.hpp"
 #include "support/skip.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -49,29 +50,8 @@ Scene tank() {
                                  "floating tank");
 }
 
-// Positions, velocities and densities by id, as raw bytes.
-std::map<std::uint32_t, std::array<float, 7>> state_of(Simulation& sim) {
-    const Particles p = sim.particles();
-    std::map<std::uint32_t, std::array<float, 7>> s;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        std::array<float, 7> v{};
-        for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(p.position[i][k]), v[3 + k] = p.velocity[i][k];
-        v[6] = p.density[i];
-        s[p.id[i]] = v;
-    }
-    return s;
-}
-
-long differing(const std::map<std::uint32_t, std::array<float, 7>>& a, const std::map<std::uint32_t, std::array<float, 7>>& b) {
-    if (a.size() != b.size()) return -1;
-    long n = 0;
-    for (const auto& [id, v] : a) {
-        const auto it = b.find(id);
-        if (it == b.end()) return -1;
-        n += std::memcmp(v.data(), it->second.data(), sizeof v) != 0;
-    }
-    return n;
-}
+using test::differing;
+using test::state_of;
 
 bool same_bodies(const std::vector<BodySample>& a, const std::vector<BodySample>& b) {
     if (a.size() != b.size()) return false;

@@ -13,6 +13,7 @@
 #include "support/mdbc_reference.hpp"
 #include "support/cut_schedules.hpp"
 #include "support/scenes.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -113,29 +114,8 @@ void check_run(const Scene& scene, const Options& o, int steps) {
     CHECK(sim.time() > scene.solids[0].motion.segments[0].end);  // the run went past the segment: the rest after it too
 }
 
-// Positions, velocities and densities by id, as raw bytes.
-std::map<std::uint32_t, std::array<float, 7>> state_of(Simulation& sim) {
-    const Particles p = sim.particles();
-    std::map<std::uint32_t, std::array<float, 7>> s;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        std::array<float, 7> v{};
-        for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(p.position[i][k]), v[3 + k] = p.velocity[i][k];
-        v[6] = p.density[i];
-        s[p.id[i]] = v;
-    }
-    return s;
-}
-
-long differing(const std::map<std::uint32_t, std::array<float, 7>>& a, const std::map<std::uint32_t, std::array<float, 7>>& b) {
-    if (a.size() != b.size()) return -1;
-    long n = 0;
-    for (const auto& [id, v] : a) {
-        const auto it = b.find(id);
-        if (it == b.end()) return -1;
-        n += std::memcmp(v.data(), it->second.data(), sizeof v) != 0;
-    }
-    return n;
-}
+using test::differing;
+using test::state_of;
 
 Options two_with_sweeping_cuts() {
     Options o;

@@ -6,6 +6,7 @@
 #include "clsph/devices.hpp"
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/scenes.hpp"
 
 #include <doctest/doctest.h>
@@ -46,31 +47,9 @@ std::unique_ptr<Simulation> make(const Scene& scene, const Options& o) {
     return sim;
 }
 
-// Particles by id: position, velocity, density, as bytes.
-using State = std::map<std::uint32_t, std::vector<unsigned char>>;
-State state_of(Simulation& sim) {
-    const Particles p = sim.particles();
-    State s;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        std::vector<unsigned char> b(sizeof(double) * 3 + sizeof(float) * 4);
-        std::memcpy(b.data(), p.position[i].data(), sizeof(double) * 3);
-        std::memcpy(b.data() + 24, p.velocity[i].data(), sizeof(float) * 3);
-        std::memcpy(b.data() + 36, &p.density[i], sizeof(float));
-        s[p.id[i]] = b;
-    }
-    return s;
-}
-
-long differing(const State& a, const State& b) {
-    if (a.size() != b.size()) return -1;
-    long n = 0;
-    for (const auto& [id, bytes] : a) {
-        const auto it = b.find(id);
-        if (it == b.end()) return -1;
-        n += it->second != bytes;
-    }
-    return n;
-}
+using test::differing;
+using test::State;
+using test::state_of;
 
 Scene probed_dam() {
     Scene s = test::dam_break_slice(0.146, 0.146 / 14, 3.0, x_min | x_max | z_min);
@@ -160,13 +139,7 @@ TEST_CASE("a blow-up found steps later names the same step, time and particle, w
         } catch (const SimulationError& e) {
             messages[k] = e.what();
         }
-        const Particles& p = sim->last_good();
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            std::vector<unsigned char> b(sizeof(double) * 3 + sizeof(float));
-            std::memcpy(b.data(), p.position[i].data(), sizeof(double) * 3);
-            std::memcpy(b.data() + 24, &p.density[i], sizeof(float));
-            last_good[k][p.id[i]] = b;
-        }
+        last_good[k] = state_of(sim->last_good());
     }
     INFO(messages[0]);
     REQUIRE(messages[0].find("outside the allowed band") != std::string::npos);
