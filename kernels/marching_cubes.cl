@@ -40,13 +40,14 @@ inline float3 gradient(const uint4 n, __global const float* f, const uint i, con
 }
 
 __kernel void mc_vertices(const uint4 n, const float iso, const float4 origin, __global const int4* block_at,
-                          const float spacing,
+                          const float spacing, const uint capacity,
                           __global const float* field, __global const uint* vertex_of,
                           __global float4* position, __global float4* normal, __global uint* edge_of_vertex) {
     const uint ge = get_global_id(0), per = n.x * n.y * n.z;
     // vertex_of is the exclusive scan of the crossing flags (3 per point + 1): a crossing edge's
     // index differs from the next one's.
-    if (ge >= 3u * per * n.w || vertex_of[ge + 1u] == vertex_of[ge]) return;
+    // Vertices past `capacity` are not written (their count is still the scan's total).
+    if (ge >= 3u * per * n.w || vertex_of[ge + 1u] == vertex_of[ge] || vertex_of[ge] >= capacity) return;
     const uint block = ge / (3u * per), e = ge - block * 3u * per;
     __global const float* f = field + block * per;
     const int4 at = block_at[block];  // lattice index of the block's sample (0, 0, 0)
@@ -103,7 +104,8 @@ inline uint edge_vertex(const uint4 n, __global const uint* vertex_of, const uin
     return vertex_of[3u * point_index(n, i + di, j + dj, k + dk) + a];
 }
 
-__kernel void mc_triangles(const uint4 n, const float iso, __global const float* field, __global const uchar* table,
+__kernel void mc_triangles(const uint4 n, const float iso, const uint capacity, __global const float* field,
+                           __global const uchar* table,
                            __global const uint* first_triangle, __global const uint* vertex_of_all,
                            __global uint* triangles) {
     const uint gq = get_global_id(0);
@@ -117,7 +119,7 @@ __kernel void mc_triangles(const uint4 n, const float iso, __global const float*
     uint out = first_triangle[gq];
     for (uint t = 0u; t < CLSPH_MC_MAX_TRIANGLES; ++t) {
         const uint base = c * CLSPH_MC_CASE_ENTRIES + 3u * t;
-        if (table[base] == 255u) break;
+        if (table[base] == 255u || out >= capacity) break;  // none past `capacity`
         for (uint v = 0u; v < 3u; ++v) triangles[3u * out + v] = edge_vertex(n, vertex_of, i, j, k, table[base + v]);
         ++out;
     }

@@ -61,7 +61,7 @@ inline Camera camera_of(const float4 eye, const float4 right, const float4 up, c
 
 #include "depth_min.h"
 
-__kernel void render_depth(const uint triangles, const float4 eye, const float4 right, const float4 up,
+__kernel void render_depth(const uint triangles, __global const uint* live, const uint live_at, const float4 eye, const float4 right, const float4 up,
                            const float4 forward, const float4 view, const uint2 size, __global const float4* pos,
                            __global const uint* tri, __global uint* depth) {
     // Every argument read before any branch (Mesa rusticl 22.3 warns that it treats argument loads
@@ -70,7 +70,10 @@ __kernel void render_depth(const uint triangles, const float4 eye, const float4 
     __global const float4* const p_pos = pos;
     __global const uint* const p_tri = tri;
     __global uint* const p_depth = depth;
-    const uint count = triangles;
+    // The triangles there are: `triangles`, or at most that many as counted on the device
+    // (live[live_at], live_at < 4: a surface's totals), read before any branch like the rest.
+    const uint on_device = live[live_at & 3u];
+    const uint count = live_at < 4u ? min(triangles, on_device) : triangles;
     const uint t = get_global_id(0);
     if (t >= count) return;
     const float3 a = project(&c, p_pos[p_tri[3u * t]].xyz), b = project(&c, p_pos[p_tri[3u * t + 1u]].xyz),
@@ -81,7 +84,7 @@ __kernel void render_depth(const uint triangles, const float4 eye, const float4 
 }
 
 // Lambert shading with a head light and a key light, `base` the surface's colour (0..1).
-__kernel void render_shade(const uint triangles, const float4 eye, const float4 right, const float4 up,
+__kernel void render_shade(const uint triangles, __global const uint* live, const uint live_at, const float4 eye, const float4 right, const float4 up,
                            const float4 forward, const float4 view, const uint2 size, const float4 base,
                            __global const float4* pos, __global const float4* nrm, __global const uint* tri,
                            __global const uint* depth, __global uint* colour) {
@@ -92,7 +95,10 @@ __kernel void render_shade(const uint triangles, const float4 eye, const float4 
     __global const uint* const p_depth = depth;
     __global uint* const p_colour = colour;
     const float4 p_base = base;
-    const uint count = triangles;
+    // The triangles there are: `triangles`, or at most that many as counted on the device
+    // (live[live_at], live_at < 4: a surface's totals), read before any branch like the rest.
+    const uint on_device = live[live_at & 3u];
+    const uint count = live_at < 4u ? min(triangles, on_device) : triangles;
     const uint t = get_global_id(0);
     if (t >= count) return;
     const uint i0 = p_tri[3u * t], i1 = p_tri[3u * t + 1u], i2 = p_tri[3u * t + 2u];
@@ -121,7 +127,7 @@ __kernel void render_shade(const uint triangles, const float4 eye, const float4 
 // The same shading with the colour taken per vertex: `values` holds each vertex's t in [0, 1] (a
 // field through colour_map.h; below 0: no fluid near it, drawn in `base`), interpolated across the
 // triangle with perspective-correct weights.
-__kernel void render_shade_field(const uint triangles, const float4 eye, const float4 right, const float4 up,
+__kernel void render_shade_field(const uint triangles, __global const uint* live, const uint live_at, const float4 eye, const float4 right, const float4 up,
                                  const float4 forward, const float4 view, const uint2 size, const float4 base,
                                  __global const float4* pos, __global const float4* nrm, __global const uint* tri,
                                  __global const float* values, __global const uint* depth, __global uint* colour) {
@@ -133,7 +139,10 @@ __kernel void render_shade_field(const uint triangles, const float4 eye, const f
     __global const uint* const p_depth = depth;
     __global uint* const p_colour = colour;
     const float4 p_base = base;
-    const uint count = triangles;
+    // The triangles there are: `triangles`, or at most that many as counted on the device
+    // (live[live_at], live_at < 4: a surface's totals), read before any branch like the rest.
+    const uint on_device = live[live_at & 3u];
+    const uint count = live_at < 4u ? min(triangles, on_device) : triangles;
     const uint t = get_global_id(0);
     if (t >= count) return;
     const uint i0 = p_tri[3u * t], i1 = p_tri[3u * t + 1u], i2 = p_tri[3u * t + 2u];

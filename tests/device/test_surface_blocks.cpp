@@ -84,13 +84,27 @@ TEST_CASE("the surface's active blocks and their field on the device, as plain C
         device::ParticleStore ps(*d, grid, particles.size());
         ps.upload(particles);
         cells.run(ps);
-        DeviceSurface s(*d, grid, phys, L);
+        // Capacity for a few blocks more than there are: the blocks past the live ones are zeros.
+        DeviceSurface s(*d, grid, phys, L, SurfaceCapacity{want.size() + 7, 0, 0});
         s.count(ps);
-        REQUIRE(s.activate(full) == want.size());
+        s.activate(full);
+        REQUIRE(s.active_blocks(full) == want.size());
         CHECK(s.active_keys() == want);
+        // Short of capacity: counted all the same, the capacity grown and the blocks compacted again.
+        DeviceSurface short_of(*d, grid, phys, L, SurfaceCapacity{want.size() / 3, 0, 0});
+        short_of.count(ps);
+        short_of.activate(full);
+        CHECK(short_of.active_blocks(full) == want.size());
+        CHECK(short_of.capacity().blocks >= want.size());
+        CHECK(short_of.active_keys() == want);
 
         // The field of a few blocks (the first, the last and random ones) against the probes.
         s.sample(ps, cells, 0, grid.params().n_s);
+        const std::vector<float> poison(kBlockPoints, 7.0f);
+        s.write_block(want.size() + 3, poison);  // a block past the live ones, poisoned, then sampled again
+        s.sample(ps, cells, 0, grid.params().n_s);
+        const auto dead = s.read_block(want.size() + 3);
+        CHECK(std::all_of(dead.begin(), dead.end(), [](float v) { return v == 0.0f; }));
         std::vector<std::size_t> slots{0, want.size() - 1};
         std::uniform_int_distribution<std::size_t> pick(0, want.size() - 1);
         for (int k = 0; k < 6; ++k) slots.push_back(pick(rng));
@@ -122,6 +136,61 @@ TEST_CASE("the surface's active blocks and their field on the device, as plain C
         MESSAGE("field of " << slots.size() << " blocks: largest fraction " << largest << ", worst difference " << worst);
         CHECK(largest > 0.5);
         CHECK(worst < 1e-4);
+    }
+}
+
+TEST_CASE("a surface taken with capacities too small redoes and gives the same mesh, on every device") {
+    Scene scene = test::small_tank(0.3, 0.2);
+    auto rng = test::rng(0x5e7f0ce);
+    const Particles particles = random_cloud(scene, rng);
+    const BlockLattice L = lattice_of(scene);
+    const auto full = static_cast<std::uint32_t>(std::ceil(0.9 * std::pow(L.edge() / scene.physics.dp, 3)));
+    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), 0, scene.domain.periodic);
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        device::Physics phys(*d, grid, scene);
+        device::CellPipeline cells(*d, grid);
+        device::ParticleStore ps(*d, grid, particles.size());
+        ps.upload(particles);
+        cells.run(ps);
+        auto take = [&](DeviceSurface& s) {
+            int attempts = 0;
+            do {
+                ++attempts;
+                REQUIRE(attempts <= 4);
+                s.count(ps);
+                s.activate(full);
+                s.sample(ps, cells, 0, grid.params().n_s);
+                s.mesh(0.5f);
+            } while (!s.settle());
+            return attempts;
+        };
+        DeviceSurface first(*d, grid, phys, L);  // no capacity at all: the first surface of a run
+        CHECK(take(first) >= 2);
+        DeviceSurface roomy(*d, grid, phys, L, first.capacity());
+        REQUIRE(take(roomy) == 1);
+        const MeshPart want = roomy.download();
+        REQUIRE(want.triangles.size() > 1000);
+        // A capacity short in each count in turn, then in all three.
+        const SurfaceCapacity big = roomy.capacity();
+        for (const SurfaceCapacity small : {SurfaceCapacity{3, big.vertices, big.triangles},
+                                            SurfaceCapacity{big.blocks, want.positions.size() / 2, big.triangles},
+                                            SurfaceCapacity{big.blocks, big.vertices, want.triangles.size() - 1},
+                                            SurfaceCapacity{1, 1, 1}}) {
+            DeviceSurface s(*d, grid, phys, L, small);
+            const int attempts = take(s);
+            MESSAGE("capacity " << small.blocks << "/" << small.vertices << "/" << small.triangles << ": " << attempts
+                                << " attempts, then " << s.capacity().blocks << "/" << s.capacity().vertices << "/"
+                                << s.capacity().triangles);
+            CHECK(attempts >= 2);
+            const MeshPart got = s.download();
+            CHECK(got.positions == want.positions);
+            CHECK(got.normals == want.normals);
+            CHECK(got.edges == want.edges);
+            CHECK(got.triangles == want.triangles);
+            // Taken again with the grown capacities: no redo.
+            CHECK(take(s) == 1);
+        }
     }
 }
 }

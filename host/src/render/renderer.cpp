@@ -50,6 +50,8 @@ Renderer::Renderer(cl_rt::Device& device) : device_(device), wg_(device.work_gro
     depth_k_ = device.kernel("render.cl", "render_depth", opts);
     shade_k_ = device.kernel("render.cl", "render_shade", opts);
     shade_field_k_ = device.kernel("render.cl", "render_shade_field", opts);
+    no_live_ = device.alloc(4 * sizeof(cl_uint), "render triangle counts");
+    device.fill(no_live_, cl_uint{0}, 4);
 }
 
 UploadedLayer Renderer::upload(const Layer& layer) {
@@ -114,20 +116,24 @@ RenderTarget Renderer::render(const CameraView& camera, const std::vector<Device
     device_.fill(colour, cl_uint(0), pixels);
     for (const auto& u : layers) {
         if (u.count == 0) continue;
-        cl_rt::set_args(depth_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size, *u.positions,
+        const cl_rt::Buffer& live = u.live ? *u.live : no_live_;
+        const cl_uint live_at = u.live ? u.live_at : 4u;
+        cl_rt::set_args(depth_k_, cl_rt::checked_uint(u.count), live, live_at, kc.eye, kc.right, kc.up, kc.forward, view, size, *u.positions,
                         *u.triangles, depth);
         device_.launch("render.depth", depth_k_, u.count, wg_);
     }
     for (const auto& u : layers) {  // every layer's depth first, then the colours
         if (u.count == 0) continue;
         const cl_float4 base{{u.colour[0], u.colour[1], u.colour[2], 1.0f}};
+        const cl_rt::Buffer& live = u.live ? *u.live : no_live_;
+        const cl_uint live_at = u.live ? u.live_at : 4u;
         if (u.values) {
-            cl_rt::set_args(shade_field_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size,
+            cl_rt::set_args(shade_field_k_, cl_rt::checked_uint(u.count), live, live_at, kc.eye, kc.right, kc.up, kc.forward, view, size,
                             base, *u.positions, *u.normals, *u.triangles, *u.values, depth, colour);
             device_.launch("render.shade", shade_field_k_, u.count, wg_);
             continue;
         }
-        cl_rt::set_args(shade_k_, cl_rt::checked_uint(u.count), kc.eye, kc.right, kc.up, kc.forward, view, size, base,
+        cl_rt::set_args(shade_k_, cl_rt::checked_uint(u.count), live, live_at, kc.eye, kc.right, kc.up, kc.forward, view, size, base,
                         *u.positions, *u.normals, *u.triangles, depth, colour);
         device_.launch("render.shade", shade_k_, u.count, wg_);
     }

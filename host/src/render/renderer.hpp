@@ -24,8 +24,12 @@ struct DeviceLayer {
     const cl_rt::Buffer* positions = nullptr;
     const cl_rt::Buffer* normals = nullptr;
     const cl_rt::Buffer* triangles = nullptr;
-    std::size_t count = 0;  // triangles
+    std::size_t count = 0;  // triangles (with `live`: at most this many)
     std::array<float, 3> colour{0.3f, 0.55f, 0.9f};
+    // Where the device holds the number of triangles (a surface's totals, surface/device_surface.hpp):
+    // (*live)[live_at] for live_at < 4; null: `count`.
+    const cl_rt::Buffer* live = nullptr;
+    std::uint32_t live_at = 4;
     // Per vertex a field's t in [0, 1] for the colour map (render/field.hpp; below 0: `colour`); null: `colour`.
     const cl_rt::Buffer* values = nullptr;
 };
@@ -86,6 +90,7 @@ private:
     cl::Kernel depth_k_, shade_k_, shade_field_k_;
     std::size_t wg_;
     cl_rt::Buffer depth_, colour_;  // kept from frame to frame, reallocated when the size changes
+    cl_rt::Buffer no_live_;         // four zeros: the `live` argument of layers counted on the host
 };
 
 // The nearest of several depth images, pixel by pixel, over `background` (the walls' lines are

@@ -193,17 +193,21 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     cl_rt::Device* shows = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
-        const bool water = part && part->triangle_count() > 0, boxes = d == 0 && !scene.solids.empty();
+        // The triangles' count stays on the device: the capacity is drawn, each kernel stopping at the count.
+        const bool water = part && part->triangle_capacity() > 0, boxes = d == 0 && !scene.solids.empty();
         if (!water && !boxes) continue;
         Renderer& r = cache.renderer(*slabs[d].device);
         std::vector<DeviceLayer> layers;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
         cl_rt::Buffer values;  // the field at the vertices, from this device's particles
         if (water) {
-            layers.push_back({&part->positions(), &part->normals(), &part->triangles(), part->triangle_count(), colour});
+            DeviceLayer layer{&part->positions(), &part->normals(), &part->triangles(), part->triangle_capacity(), colour};
+            layer.live = &part->totals();
+            layer.live_at = 2;
+            layers.push_back(layer);
             if (mode) {
                 FieldSampler sampler(*slabs[d].device, grid, slabs[d].physics->point_options());
-                values = sampler.vertex_values(mode, driver.params(), range, part->positions(), part->vertex_count(),
+                values = sampler.vertex_values(mode, driver.params(), range, part->positions(), part->capacity().vertices,
                                                *slabs[d].store, *slabs[d].cells);
                 layers.back().values = &values;
             }

@@ -6,6 +6,7 @@
 //   StepRunner  the synchronous step          StepAhead  steps run ahead of the host (one device)
 //   Downloads   particles to the host, and the last good state
 //   FrameCache  what images are drawn with on each device, kept from frame to frame
+//   DeviceParts the free surface's buffers on each device, sized by capacities kept likewise
 // The slab driver (multi/) owns the slabs and what a checkpoint saves of them; views (surface,
 // image) and reports are stateless calls on it (simulation/views.cpp, reports.cpp).
 #pragma once
@@ -15,6 +16,7 @@
 #include "device/grid.hpp"
 #include "multi/slab_driver.hpp"
 #include "render/frame_cache.hpp"
+#include "surface/extract.hpp"
 #include "simulation/downloads.hpp"
 #include "simulation/failures.hpp"
 #include "simulation/run_state.hpp"
@@ -44,6 +46,7 @@ struct Simulation::Impl {
     simulation::StepAhead ahead;
     simulation::Downloads downloads;
     render::FrameCache frames;  // the images' kernels and buffers, kept between frames (views.cpp)
+    surface::DeviceParts surfaces;  // the surface's buffers and capacities on each device, likewise
 
     Impl(const Scene& s, const Options& o, const std::function<simulation::Source(const device::Grid&)>& source_of)
         : scene(s),

@@ -98,7 +98,7 @@ TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     auto& m = *impl_;
     m.driver.one_process("free surfaces");
     return cl_rt::guarded("extracting the free surface", "",
-                          [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options); });
+                          [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options, m.surfaces); });
 }
 
 Image Simulation::render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style) {
@@ -112,9 +112,16 @@ Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
     m.driver.one_process("images");
     if (m.scene.render.method == RenderMethod::surface)
         return cl_rt::guarded("rendering an image", "", [&] {
-            // The surface stays where the devices made it; each draws its own part.
-            const auto parts = surface::surface_on_devices(m.driver, m.grid, m.scene, image_surface(m.scene, camera));
-            return render::render_scene(m.driver, m.grid, m.scene, parts, camera, style, m.frames, solid_poses(m.scene, m.driver, m.state.info.time));
+            // The surface stays where the devices made it, its counts too; each device draws its own
+            // part. Only then are the counts read: where one outgrew its capacity, surface and
+            // image are made again (the capacities kept for the next frames).
+            const auto poses = solid_poses(m.scene, m.driver, m.state.info.time);
+            for (int attempt = 0;; ++attempt) {
+                surface::surface_on_devices(m.driver, m.grid, m.scene, image_surface(m.scene, camera), m.surfaces);
+                Image img = render::render_scene(m.driver, m.grid, m.scene, m.surfaces, camera, style, m.frames, poses);
+                if (m.surfaces.settle()) return img;
+                if (attempt == 3) throw Error("image: the surface's buffers did not settle after four attempts (a bug: please report it)");
+            }
         });
     return cl_rt::guarded("rendering an image by splats", "",
                           [&] { return render::splat_scene(m.driver, m.grid, m.scene, camera, style, m.frames, solid_poses(m.scene, m.driver, m.state.info.time)); });

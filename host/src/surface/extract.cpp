@@ -37,9 +37,21 @@ BlockLattice lattice_for(const Scene& scene, const SurfaceOptions& options) {
 
 }  // namespace
 
-DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
-                               const SurfaceOptions& options) {
-    DeviceParts out;
+bool DeviceParts::settle() {
+    bool fits = true;
+    for (auto& p : parts)
+        if (p) fits = p->settle() && fits;  // every part, so each grows what it lacked
+    return fits;
+}
+
+namespace {
+bool same_lattice(const BlockLattice& a, const BlockLattice& b) {
+    return a.origin == b.origin && a.spacing == b.spacing && a.blocks == b.blocks;
+}
+}  // namespace
+
+void surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                        const SurfaceOptions& options, DeviceParts& into) {
     const BlockLattice L = lattice_for(scene, options);
     const double dp = scene.physics.dp;
     const auto full = static_cast<std::uint32_t>(std::ceil(kFull * std::pow(L.edge() / dp, 3)));
@@ -47,10 +59,20 @@ DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& gr
     std::vector<std::size_t> busy;  // slabs owning columns: they sample and mesh
     for (std::size_t d = 0; d < slabs.size(); ++d)
         if (!slabs[d].empty()) busy.push_back(d);
-    if (busy.empty()) return out;
-    auto& parts = out.parts;
+    auto& parts = into.parts;
     parts.resize(slabs.size());
-    for (auto d : busy) parts[d] = std::make_unique<DeviceSurface>(*slabs[d].device, grid, *slabs[d].physics, L);
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        const bool is_busy = std::find(busy.begin(), busy.end(), d) != busy.end();
+        auto& p = parts[d];
+        if (!is_busy) {
+            p.reset();
+            continue;
+        }
+        const bool reuse = p && &p->device() == slabs[d].device && &p->physics() == slabs[d].physics.get() &&
+                           same_lattice(p->lattice(), L);
+        if (!reuse) p = std::make_unique<DeviceSurface>(*slabs[d].device, grid, *slabs[d].physics, L);
+    }
+    if (busy.empty()) return;
 
     // Fluid per block: each device counts what it owns; several devices add their counts (the
     // flags need every neighbour's).
@@ -63,9 +85,11 @@ DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& gr
         }
         for (auto d : busy) parts[d]->write_counts(total);
     }
-    std::size_t active = 0;
-    for (auto d : busy) active = parts[d]->activate(full);  // the same on every device
-    if (active == 0) return out;
+    for (auto d : busy) parts[d]->activate(full);  // the same blocks on every device
+    // Several devices join their blocks on the host, so they read the count now (one device
+    // reads nothing until settle()).
+    if (busy.size() > 1)
+        for (auto d : busy) parts[d]->active_blocks(full);
 
     // Each sample is evaluated on the device owning its column (which holds the ghosts it needs).
     for (auto d : busy)
@@ -111,13 +135,21 @@ DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& gr
         for (auto d : busy) parts[d]->keep(mine[d]);
     }
     for (auto d : busy) parts[d]->mesh(static_cast<float>(options.iso));
-    return out;
+}
+
+void settled_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                     const SurfaceOptions& options, DeviceParts& into) {
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        surface_on_devices(driver, grid, scene, options, into);
+        if (into.settle()) return;
+    }
+    throw Error("surface: the mesh's buffers did not settle after four attempts (a bug: please report it)");
 }
 
 TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
-                             const SurfaceOptions& options) {
+                             const SurfaceOptions& options, DeviceParts& on) {
     const BlockLattice L = lattice_for(scene, options);
-    DeviceParts on = surface_on_devices(driver, grid, scene, options);
+    settled_surface(driver, grid, scene, options, on);
     std::vector<std::size_t> busy;
     for (std::size_t d = 0; d < on.parts.size(); ++d)
         if (on.parts[d]) busy.push_back(d);

@@ -20,20 +20,32 @@
 
 namespace clsph::surface {
 
-// The surface left on the devices: each busy slab's part (null for the others).
+// The surface left on the devices: each busy slab's part (null for the others), kept from
+// surface to surface by whoever takes them (the Simulation), so each device's buffers and
+// capacities are reused.
 struct DeviceParts {
     std::vector<std::unique_ptr<DeviceSurface>> parts;
-    bool empty() const {
+    // Reads each part's totals (DeviceSurface::settle): true when every count fitted; false when a
+    // capacity was short (it has grown) and the surface must be taken again.
+    bool settle();
+    bool empty() const {  // after settle()
         for (const auto& p : parts)
             if (p && p->triangle_count() > 0) return false;
         return true;
     }
 };
 
-DeviceParts surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
-                               const SurfaceOptions& options);
+// The surface into `into` (its parts reused where the device, its physics and the lattice are the
+// same), with no read-back on one device: the counts stay on the devices until into.settle().
+void surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                        const SurfaceOptions& options, DeviceParts& into);
+
+// The surface into `into`, taken again until every count fits its capacity (a redo happens on
+// the first surface and when the surface outgrows the last one's capacities).
+void settled_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
+                     const SurfaceOptions& options, DeviceParts& into);
 
 TriangleMesh extract_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
-                             const SurfaceOptions& options);
+                             const SurfaceOptions& options, DeviceParts& parts);
 
 }  // namespace clsph::surface

@@ -2,12 +2,14 @@
 
 #include "cl/kernel_args.hpp"
 #include "clsph/error.hpp"
+#include "device/primitives_launch.hpp"
 #include "surface/mc_table.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace clsph::surface {
+using device::ensure_capacity;
 
 namespace {
 void check_grid(const SampleGrid& g) {
@@ -92,7 +94,8 @@ DeviceBlockMeshes MarchingCubes::run_blocks_device(const cl_rt::Buffer& field, s
         out.position = device_.alloc(out.vertices * 4 * sizeof(float), "surface positions");
         out.normal = device_.alloc(out.vertices * 4 * sizeof(float), "surface normals");
         out.edge_of_vertex = device_.alloc(out.vertices * sizeof(cl_uint), "surface vertex edges");
-        set_args(vertices_k_, n, iso, o, block_at, static_cast<float>(spacing), field, out.vertex_of, out.position, out.normal, out.edge_of_vertex);
+        set_args(vertices_k_, n, iso, o, block_at, static_cast<float>(spacing), cl_rt::checked_uint(out.vertices), field,
+                 out.vertex_of, out.position, out.normal, out.edge_of_vertex);
         device_.launch("surface.vertices", vertices_k_, edges, wg_);
     }
     auto per_cube = device_.alloc((cubes + 1) * sizeof(cl_uint), "surface triangles per cube");
@@ -101,10 +104,47 @@ DeviceBlockMeshes MarchingCubes::run_blocks_device(const cl_rt::Buffer& field, s
     out.triangles = scan_.exclusive_total(per_cube, per_cube, cubes);
     if (out.triangles > 0) {
         out.triangle_vertices = device_.alloc(out.triangles * 3 * sizeof(cl_uint), "surface triangles");
-        set_args(triangles_k_, n, iso, field, table_, per_cube, out.vertex_of, out.triangle_vertices);
+        set_args(triangles_k_, n, iso, cl_rt::checked_uint(out.triangles), field, table_, per_cube, out.vertex_of,
+                 out.triangle_vertices);
         device_.launch("surface.triangles", triangles_k_, cubes, wg_);
     }
     return out;
+}
+
+void MarchingCubes::run_blocks_capacity(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                                        const std::array<double, 3>& origin, double spacing,
+                                        const cl_rt::Buffer& block_at, std::size_t blocks, std::size_t vertices,
+                                        std::size_t triangles, float iso, DeviceBlockMeshes& out) {
+    SampleGrid one;
+    one.points = points;
+    one.spacing = spacing;
+    check_grid(one);
+    const std::size_t per = one.samples(), points_all = per * blocks, edges = 3 * points_all;
+    const std::size_t cubes = std::size_t{points[0] - 1} * (points[1] - 1) * (points[2] - 1) * blocks;
+    if (static_cast<double>(edges) > 4.0e9) throw Error("marching cubes: too many blocks in one batch");
+    const cl_uint4 n{{points[0], points[1], points[2], cl_rt::checked_uint(blocks, "surface blocks")}};
+    out.vertices = vertices;
+    out.triangles = triangles;
+    ensure_capacity(device_, out.vertex_of, (edges + 1) * sizeof(cl_uint), "surface vertex indices");
+    ensure_capacity(device_, out.position, std::max<std::size_t>(vertices, 1) * 4 * sizeof(float), "surface positions");
+    ensure_capacity(device_, out.normal, std::max<std::size_t>(vertices, 1) * 4 * sizeof(float), "surface normals");
+    ensure_capacity(device_, out.edge_of_vertex, std::max<std::size_t>(vertices, 1) * sizeof(cl_uint), "surface vertex edges");
+    ensure_capacity(device_, out.first_triangle, (cubes + 1) * sizeof(cl_uint), "surface triangles per cube");
+    ensure_capacity(device_, out.triangle_vertices, std::max<std::size_t>(triangles, 1) * 3 * sizeof(cl_uint), "surface triangles");
+    if (blocks == 0) return;
+    set_args(edges_k_, n, iso, field, out.vertex_of);
+    device_.launch("surface.edges", edges_k_, points_all, wg_);
+    scan_.exclusive(out.vertex_of, out.vertex_of, edges);
+    const cl_float4 o{{static_cast<float>(origin[0]), static_cast<float>(origin[1]), static_cast<float>(origin[2]), 0.0f}};
+    set_args(vertices_k_, n, iso, o, block_at, static_cast<float>(spacing), cl_rt::checked_uint(vertices), field,
+             out.vertex_of, out.position, out.normal, out.edge_of_vertex);
+    device_.launch("surface.vertices", vertices_k_, edges, wg_);
+    set_args(cubes_k_, n, iso, field, table_, out.first_triangle);
+    device_.launch("surface.cubes", cubes_k_, cubes, wg_);
+    scan_.exclusive(out.first_triangle, out.first_triangle, cubes);
+    set_args(triangles_k_, n, iso, cl_rt::checked_uint(triangles), field, table_, out.first_triangle, out.vertex_of,
+             out.triangle_vertices);
+    device_.launch("surface.triangles", triangles_k_, cubes, wg_);
 }
 
 Mesh marching_cubes_reference(const std::vector<float>& f, const SampleGrid& g, float iso) {

@@ -36,6 +36,7 @@ struct BlockMeshes {
 struct DeviceBlockMeshes {
     std::size_t vertices = 0, triangles = 0;
     cl_rt::Buffer vertex_of, position, normal, edge_of_vertex, triangle_vertices;
+    cl_rt::Buffer first_triangle;  // per cube + 1: the scan of triangles per cube (run_blocks_capacity)
 };
 
 class MarchingCubes {
@@ -55,6 +56,14 @@ public:
     DeviceBlockMeshes run_blocks_device(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
                                         const std::array<double, 3>& origin, double spacing,
                                         const cl_rt::Buffer& block_at, std::size_t blocks, float iso);
+    // The same with no read-back, into `out`'s buffers (grown to the capacities): `blocks` blocks
+    // of `points` samples (blocks past the live ones hold 0, below iso: they make nothing), at
+    // most `vertices` vertices and `triangles` triangles written. The totals, which may exceed the
+    // capacities, stay on the device: out.vertex_of[edges()] and out.first_triangle[cubes()].
+    void run_blocks_capacity(const cl_rt::Buffer& field, std::array<std::uint32_t, 3> points,
+                             const std::array<double, 3>& origin, double spacing, const cl_rt::Buffer& block_at,
+                             std::size_t blocks, std::size_t vertices, std::size_t triangles, float iso,
+                             DeviceBlockMeshes& out);
 
 private:
     cl_rt::Device& device_;
