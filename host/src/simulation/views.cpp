@@ -96,20 +96,17 @@ std::vector<BodySample> Simulation::bodies() const {
 
 TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     auto& m = *impl_;
-    m.driver.one_process("free surfaces");
     return cl_rt::guarded("extracting the free surface", "",
                           [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options); });
 }
 
 Image Simulation::render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
-    m.driver.one_process("images");
     return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera, style); });
 }
 
 Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
-    m.driver.one_process("images");
     if (m.scene.render.method == RenderMethod::surface)
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it; each draws its own part.
