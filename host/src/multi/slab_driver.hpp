@@ -93,8 +93,9 @@ public:
     std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
 
     // A checkpoint's slab arrays (multi/slab_state.cpp): every slab's owned particles appended to
-    // c in slab order (across ranks gathered to rank 0, the others' c holding none: collective), and put back over the
-    // owned particles the first pass sorted (by id where the split differs from the saved one).
+    // c in slab order (across ranks gathered to rank 0, the others' c holding none: collective),
+    // and put back over the owned particles the first pass sorted (by id where the split differs
+    // from the saved one).
     void save_owned(Checkpoint& c);
     void restore_owned(const Checkpoint& c);
     // Floating bodies (multi/slab_floating.cpp; null: none): their state, integrated on the host.
