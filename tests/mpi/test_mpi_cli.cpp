@@ -258,7 +258,7 @@ TEST_CASE("--surface --render across ranks: rank 0 writes the mesh and the image
     for (const char* method : {"surface", "splat"}) {
         CAPTURE(method);
         const std::string across = work_dir(std::string("mpi_surface_") + method), one = work_dir(std::string("mpi_surface_one_") + method);
-        const std::vector<std::string> run = join({"run", scene}, join(tiny, {"--steps", "30", "--every", "100", "--surface",
+        const std::vector<std::string> run = join({"run", scene}, join(tiny, {"--steps", "10", "--every", "100", "--surface",
                                                                                "--render", "--render-method", method,
                                                                                "--balance", "static"}));
         std::string log, log1;
