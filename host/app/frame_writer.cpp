@@ -1,5 +1,7 @@
 #include "frame_writer.hpp"
 
+#include "rank_gather.hpp"
+
 #include <clsph/error.hpp>
 
 #include <algorithm>
@@ -210,9 +212,21 @@ void FrameWriter::write_rank_piece(std::size_t index, double time, const Particl
         failure = e.what();
     }
     // Every rank learns whether any failed (a full disk on one rank ends the run on all of them).
-    const auto failures = gather_text(ranks, failure);
-    for (std::size_t r = 0; r < failures.size(); ++r)
-        if (!failures[r].empty()) throw Error("rank " + std::to_string(r) + ": " + failures[r]);
+    auto any_failed = [&] {
+        const auto failures = gather_text(ranks, failure);
+        for (std::size_t r = 0; r < failures.size(); ++r)
+            if (!failures[r].empty()) throw Error("rank " + std::to_string(r) + ": " + failures[r]);
+    };
+    any_failed();
+    if (format_.csv) {  // the whole frame, gathered to rank 0 in slab order: one process's CSV
+        const Particles all = gather_particles_to_rank0(ranks, mine);
+        if (rank == 0) try {
+                write_csv(dir_ + "/" + frame_name(index, "csv"), all, filter_.fields);
+            } catch (const std::exception& e) {
+                failure = e.what();
+            }
+        any_failed();
+    }
     if (rank != 0) return;
     std::vector<std::string> names;
     for (int r = 0; r < ranks_in(ranks); ++r) names.push_back(piece_name(index, static_cast<std::size_t>(r)));

@@ -28,7 +28,8 @@ struct FrameFormat {
     bool compress = false;  // zlib-compressed VTU (vtkZLibDataCompressor)
     bool pieces = false;    // frame_NNNNN_pK.vtu per device and frame_NNNNN.pvtu (submit_pieces)
     // Across MPI ranks (clsph/ranks.hpp): each rank writes its particles as piece K = its rank,
-    // on the calling thread; once every rank has, rank 0 writes the .pvtu and the collection.
+    // on the calling thread; once every rank has, rank 0 writes the .pvtu and the collection
+    // (and with csv the whole frame as CSV, every rank's particles gathered to it).
     // (submit() and finish() are then collective: every rank calls them in step.)
     Ranks* ranks = nullptr;
 };

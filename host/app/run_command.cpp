@@ -48,11 +48,8 @@ RunArgs across_ranks(RunArgs args) {
     auto refuse = [](const char* what) {
         throw Error(std::string(what) + " is not supported across MPI ranks yet; run it in one process (docs/mpi.md lists what runs across ranks)");
     };
-    if (args.dry_run) refuse("--dry-run");
     if (args.serve) refuse("--serve");
     if (args.on_device_failure == "continue") refuse("--on-device-failure continue");
-    if (args.wants_surface()) refuse("the free surface and images (--surface, --render, --video)");
-    if (args.csv) refuse("--csv");
     return args;
 }
 

@@ -60,7 +60,8 @@ public:
                         ? std::make_unique<SurfaceOutput>(plan.out_dir, args.surface_every.value_or(0.0), args.surface_ply,
                                                           SurfaceOptions{args.surface_spacing, 0.5}, args.render || args.video,
                                                           args.wants_meshes() ||
-                                                              sim.scene().render.method == RenderMethod::surface)
+                                                              sim.scene().render.method == RenderMethod::surface,
+                                                          speaks(args))
                         : nullptr),
           progress_(sim.time(), plan.until, plan.steps, isatty(STDERR_FILENO) != 0) {
         if (resume_) {

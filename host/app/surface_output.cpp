@@ -15,14 +15,16 @@ void write_image(const std::string& dir, std::size_t count, const Image& image) 
 
 }  // namespace
 
-SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options, bool render, bool meshes)
+SurfaceOutput::SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options, bool render, bool meshes,
+                             bool writes)
     : dir_(std::move(dir)),
       every_(every),
       ply_(ply),
       options_(options),
       render_(render),
-      meshes_(meshes || !render) {
-    if (meshes_) pvd_.emplace(dir_ + "/surface.pvd");
+      meshes_(meshes || !render),
+      writes_(writes) {
+    if (meshes_ && writes_) pvd_.emplace(dir_ + "/surface.pvd");
 }
 
 void SurfaceOutput::at_frame(Simulation& sim) {
@@ -31,7 +33,8 @@ void SurfaceOutput::at_frame(Simulation& sim) {
     if (meshes_) {
         write(t, sim.surface(options_), sim);
     } else {  // images by splats: no mesh needed
-        write_image(dir_, count_, sim.image(camera(sim)));
+        const Image image = sim.image(camera(sim));  // across ranks every rank draws its slabs
+        if (writes_) write_image(dir_, count_, image);
         ++count_;
     }
     if (every_ > 0)
@@ -41,14 +44,17 @@ void SurfaceOutput::at_frame(Simulation& sim) {
 void SurfaceOutput::write(double time, const TriangleMesh& mesh, Simulation& sim) {
     char name[32];
     std::snprintf(name, sizeof name, "surface_%05zu", count_);
-    write_vtp(dir_ + "/" + name + ".vtp", mesh);
-    if (ply_) write_ply(dir_ + "/" + name + ".ply", mesh);
-    if (!pvd_) pvd_.emplace(dir_ + "/surface.pvd");
-    pvd_->add(time, std::string(name) + ".vtp");
+    if (writes_) {
+        write_vtp(dir_ + "/" + name + ".vtp", mesh);
+        if (ply_) write_ply(dir_ + "/" + name + ".ply", mesh);
+        if (!pvd_) pvd_.emplace(dir_ + "/surface.pvd");
+        pvd_->add(time, std::string(name) + ".vtp");
+    }
     if (render_) {  // the mesh at hand when the scene draws surfaces, else the scene's own method
         const CameraView& view = camera(sim);
         const bool surface = sim.scene().render.method == RenderMethod::surface;
-        write_image(dir_, count_, surface ? sim.render(mesh, view) : sim.image(view));
+        const Image image = surface ? sim.render(mesh, view) : sim.image(view);  // across ranks: collective
+        if (writes_) write_image(dir_, count_, image);
     }
     ++count_;
 }

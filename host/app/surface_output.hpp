@@ -18,8 +18,10 @@ public:
     // surface, DIR/render_NNNNN.png (clsph/render.hpp: Simulation::image, so the scene's
     // render.method applies); meshes false (images only, with the splat method): no surface is
     // computed or written, only the images.
+    // writes false: across MPI ranks, a rank other than 0, which takes part in making each surface
+    // and image (collectives) but writes nothing (rank 0 writes the whole mesh and the picture).
     SurfaceOutput(std::string dir, double every, bool ply, SurfaceOptions options = {}, bool render = false,
-                  bool meshes = true);
+                  bool meshes = true, bool writes = true);
     // Called at each frame; writes a surface when one is due (the first frame always).
     void at_frame(Simulation& sim);
     // Writes the surface of `mesh` at `time` (and its image, rendered by `sim`).
@@ -38,6 +40,7 @@ private:
     SurfaceOptions options_;
     bool render_;
     bool meshes_;
+    bool writes_;
     std::optional<PvdWriter> pvd_;  // surface.pvd: only when meshes are written
     std::size_t count_ = 0;
     double next_ = 0;

@@ -1,6 +1,6 @@
 // `mpirun -np 2 clsph run` (issue 21), started as a user would start it: the frames' pieces together
 // hold every particle exactly once and equal the same run in one process on the node's two devices
-// bit for bit; rank 0 writes the run's files; a rank whose device fails stops every rank with its
+// bit for bit; rank 0 writes the run's files (the CSV frames gathered from every rank); a rank whose device fails stops every rank with its
 // message; SIGTERM to mpirun ends the run as it does for one process. CTest runs this program alone
 // (not under mpirun) with POCL_DEVICES="pthread pthread".
 #include "process.hpp"
@@ -97,7 +97,7 @@ nlohmann::json read_json(const std::string& path) {
 
 TEST_CASE("mpirun -np 2 clsph run: the pieces hold every particle once, bitwise the run in one process") {
     const std::string across = work_dir("mpi_across"), one = work_dir("mpi_one");
-    const std::vector<std::string> common = join({"run", scene}, join(tiny, {"--steps", "60", "--every", "100"}));
+    const std::vector<std::string> common = join({"run", scene}, join(tiny, {"--steps", "60", "--every", "100", "--csv"}));
     std::string log;
     int code = run_program(CLSPH_MPIEXEC, mpi_args(join(common, {"--out", across})), log);
     INFO(log);
@@ -123,6 +123,13 @@ TEST_CASE("mpirun -np 2 clsph run: the pieces hold every particle once, bitwise 
     CHECK(devices.find("rank 0: ") != std::string::npos);
     CHECK(devices.find("rank 1: ") != std::string::npos);
     CHECK(cli_test::read_text(across + "/stats.csv") == cli_test::read_text(one + "/stats.csv"));
+    // --csv: rank 0 writes the whole frame, gathered in slab order: byte for byte one process's.
+    for (const char* f : {"/frame_00000.csv", "/frame_00001.csv"}) {
+        INFO(f);
+        REQUIRE(fs::exists(across + f));
+        CHECK(cli_test::read_text(across + f) == cli_test::read_text(one + f));
+    }
+    CHECK(!fs::exists(across + "/frame_00001_p1.csv"));
 }
 
 TEST_CASE("across ranks: a checkpoint at the end, and clsph resume across the ranks goes on bitwise") {
@@ -195,4 +202,81 @@ TEST_CASE("SIGTERM to mpirun ends every rank as one process ends: a final frame,
     const auto frames = read_pvd(out + "/dam_break.pvd");
     REQUIRE(!frames.empty());
     for (const auto& s : read_pvtu_sources(out + "/" + frames.back().file)) CHECK(fs::exists(out + "/" + s));
+}
+
+namespace {
+
+// The lines of `log` from the first holding `from` up to (not including) the first after it holding `to`.
+std::string section(const std::string& log, const std::string& from, const std::string& to) {
+    const auto a = log.find(from);
+    if (a == std::string::npos) return {};
+    const auto b = log.find(to, a);
+    return log.substr(a, b == std::string::npos ? std::string::npos : b - a);
+}
+
+}  // namespace
+
+TEST_CASE("--dry-run across ranks: the plan of every rank's devices, each rank's measured peak; nothing written") {
+    const std::string across = work_dir("mpi_dry"), one = work_dir("mpi_dry_one");
+    const std::vector<std::string> dry = join({"run", scene}, join(tiny, {"--dry-run", "--steps", "20"}));
+    std::string log, log1;
+    REQUIRE(run_program(CLSPH_MPIEXEC, mpi_args(join(dry, {"--out", across})), log) == 0);
+    INFO(log);
+    REQUIRE(run_program(CLSPH_CLI, join(dry, {"--out", one, "--devices", "0,1"}), log1) == 0);
+    INFO(log1);
+    CHECK(!fs::exists(across));
+    // The plan of the chain (rank 0's device, then rank 1's) is the plan one process makes of the same two.
+    const std::string plan = section(log, "memory plan", "  measured:"), plan1 = section(log1, "memory plan", "  measured:");
+    REQUIRE(!plan.empty());
+    CHECK(section(plan, "memory plan", "  ranks:") == plan1);
+    CHECK(plan.find("ranks: #0 on rank 0, #1 on rank 1") != std::string::npos);
+    // Said once (by rank 0), with a measured line for each rank's device.
+    CHECK(log.find("clsph run --dry-run:") == log.rfind("clsph run --dry-run:"));
+    const std::string measured = section(log, "  measured:", "first time step");
+    CHECK(measured.find("#0 ") != std::string::npos);
+    CHECK(measured.find("#1 ") != std::string::npos);
+}
+
+TEST_CASE("across ranks a scene too large for a rank's device stops before allocating, naming physics.dp") {
+    const std::string out = work_dir("mpi_too_large");
+    std::vector<std::string> big = tiny;
+    big[1] = "physics.dp=0.0007";  // about 24 M particles: more than 1 GiB a device
+    ::setenv("POCL_MEMORY_LIMIT", "1", 1);
+    std::string log;
+    const int code = run_program(CLSPH_MPIEXEC, mpi_args(join({"run", scene}, join(big, {"--out", out}))), log, 300);
+    ::unsetenv("POCL_MEMORY_LIMIT");
+    INFO(log);
+    CHECK(code != 0);
+    CHECK(code != -1000);
+    CHECK(log.find("physics.dp = 0.0007: the scene needs") != std::string::npos);
+    CHECK(log.find("setting up the devices") == std::string::npos);
+}
+
+// The cuts held at the balancer's first (static) ones, so that both runs split alike: the mesh's
+// parts are welded in slab order, so its vertex order follows the cuts.
+TEST_CASE("--surface --render across ranks: rank 0 writes the mesh and the image, byte for byte one process's") {
+    for (const char* method : {"surface", "splat"}) {
+        CAPTURE(method);
+        const std::string across = work_dir(std::string("mpi_surface_") + method), one = work_dir(std::string("mpi_surface_one_") + method);
+        const std::vector<std::string> run = join({"run", scene}, join(tiny, {"--steps", "10", "--every", "100", "--surface",
+                                                                               "--render", "--render-method", method,
+                                                                               "--balance", "static"}));
+        std::string log, log1;
+        REQUIRE(run_program(CLSPH_MPIEXEC, mpi_args(join(run, {"--out", across})), log) == 0);
+        INFO(log);
+        REQUIRE(run_program(CLSPH_CLI, join(run, {"--out", one, "--devices", "0,1", "--no-checkpoint"}), log1) == 0);
+        INFO(log1);
+        for (const char* f : {"/surface_00000.vtp", "/surface_00001.vtp", "/render_00000.png", "/render_00001.png"}) {
+            CAPTURE(f);
+            const bool splat_mesh = std::string(method) == "splat" && std::string(f).find(".vtp") != std::string::npos;
+            if (splat_mesh && !fs::exists(one + f)) continue;  // --surface with splats: as one process does
+            REQUIRE(fs::exists(across + f));
+            const std::string text = cli_test::read_text(across + f);
+            CHECK(text.size() > 1000);  // a mesh with triangles, a picture with something in it
+            if (!splat_mesh && std::string(f).find(".vtp") != std::string::npos)
+                CHECK(text.find("NumberOfPolys=\"0\"") == std::string::npos);
+            const bool same = text == cli_test::read_text(one + f);
+            CHECK(same);
+        }
+    }
 }

@@ -84,4 +84,15 @@ MemoryPlan plan_memory(const Scene& scene, const std::vector<DeviceInfo>& device
 // Throws SceneError naming physics.dp, each device's need and capacity, when `plan` does not fit.
 void check_fits(const MemoryPlan& plan);
 
+// The devices one run's chain of slabs spans, in chain order, as Simulation selects them from
+// Options::devices: with Options::ranks every rank's own devices, gathered from every rank, rank
+// 0's first (collective: every rank calls it), so every rank plans the whole chain alike; without,
+// the selection. `rank`: the rank of each entry; [first, end): this rank's entries.
+struct ChainDevices {
+    std::vector<DeviceInfo> devices;
+    std::vector<int> rank;
+    std::size_t first = 0, end = 0;
+};
+ChainDevices chain_devices(const Options& options);
+
 }  // namespace clsph

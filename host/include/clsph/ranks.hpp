@@ -27,6 +27,8 @@ int ranks_in(const Ranks& ranks);  // how many processes the run spans
 void wait_for_all(Ranks& ranks);                                           // a barrier
 bool any_rank(Ranks& ranks, bool mine);                                    // true if any rank says so
 std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine);  // every rank's, in rank order
+// Every rank's, in rank order, on rank `root` only (empty on the others): what one rank writes.
+std::vector<std::string> gather_text_to(Ranks& ranks, const std::string& mine, int root);
 
 // Stops every rank after an error on this one (MPI_Abort), printing `message` with the rank, so
 // the others do not wait for its messages forever. Without MPI: prints and exits with `code`.

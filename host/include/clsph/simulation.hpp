@@ -111,6 +111,8 @@ public:
     ~Simulation();
     // The state now as a checkpoint, and written to `path` (docs/checkpoint.md; through a
     // temporary name and a rename). Not from inside the step callback while steps run ahead.
+    // Across MPI ranks both are collective: every rank's particles are gathered to rank 0, whose
+    // checkpoint holds them all and which writes the file; the others' hold no particles.
     Checkpoint checkpoint();
     void save(const std::string& path);
     Simulation(const Simulation&) = delete;
@@ -157,6 +159,10 @@ public:
     // colours surfaces only). The one entry point for a picture of the running simulation (the
     // tool's frames, the live view, Python's sim.image).
     Image image(const CameraView& camera, const ImageStyle& style = {});
+    // Across MPI ranks surface(), render() and image() are collective: every rank makes and draws
+    // its own slabs; surface() returns the whole mesh on every rank, and the images go to rank 0,
+    // which composes the picture: on the others render() and image() return an empty Image (its
+    // range set).
 
     std::vector<KernelTime> profile();       // per-kernel totals since the start (Options::profile)
     std::vector<KernelTime> host_phases() const;  // host wall time per step phase

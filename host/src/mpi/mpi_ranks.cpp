@@ -4,6 +4,7 @@
 #include "clsph/ranks.hpp"
 #include "mpi/environment.hpp"
 #include "mpi/link.hpp"
+#include "mpi/messages.hpp"
 #include "multi/ranks.hpp"
 
 namespace clsph {
@@ -79,6 +80,37 @@ public:
         std::vector<std::string> out;
         for (std::size_t r = 0; r < counts.size(); ++r)
             out.push_back(all.substr(static_cast<std::size_t>(at[r]), static_cast<std::size_t>(counts[r])));
+        return out;
+    }
+
+    std::vector<std::string> gather_text_to(const std::string& mine, int root) override {
+        // The lengths to the root, then the bytes as messages of any size (a checkpoint's slabs may
+        // pass INT_MAX), on the communicator's largest tag, which no link's tags reach (2k, 2k + 1
+        // for link k, checked against the same limit).
+        const std::uint64_t length = mine.size();
+        const bool here = rank() == root;
+        std::vector<std::uint64_t> lengths(here ? static_cast<std::size_t>(size()) : 0);
+        mpi::check(MPI_Gather(&length, 1, MPI_UINT64_T, lengths.data(), 1, MPI_UINT64_T, root, comm_), "MPI_Gather",
+                   "gathering lengths to one rank");
+        const int tag = mpi::tag_limit(comm_);
+        const std::string what = "gathering data to rank " + std::to_string(root);
+        std::vector<MPI_Request> requests;
+        std::vector<std::string> out;
+        if (!here) {
+            mpi::isend_bytes(mine.data(), mine.size(), mpi::kDefaultChunk, root, tag, comm_, requests, what);
+        } else {
+            out.resize(lengths.size());
+            for (std::size_t r = 0; r < lengths.size(); ++r) {
+                if (static_cast<int>(r) == root) {
+                    out[r] = mine;
+                    continue;
+                }
+                out[r].resize(static_cast<std::size_t>(lengths[r]));
+                mpi::irecv_bytes(out[r].data(), out[r].size(), mpi::kDefaultChunk, static_cast<int>(r), tag, comm_,
+                                 requests, what);
+            }
+        }
+        mpi::wait_all(requests, what);
         return out;
     }
 

@@ -33,6 +33,7 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Colum
     };
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         Slab& s = slabs[d];
+        if (!s.device) continue;  // across ranks: another rank's, timed there
         // The test slowdown (testing.hpp) is left out on purpose: it stands for a device that
         // becomes slow after the start, which the dynamic balancer must notice by itself.
         std::vector<std::array<double, 2>> points;  // (work, seconds)
@@ -71,6 +72,26 @@ void calibrate(std::vector<Slab>& slabs, const Partition& partition, const Colum
         }
         balancer.calibrate(d, fixed, per_unit);
         s.calibration = {fixed, per_unit, total};
+    }
+}
+
+void share_calibrations(std::vector<Slab>& slabs, Ranks& ranks, balance::Balancer& balancer) {
+    // (calibrated, fixed, per unit, work) per slab: one rank's figures and the others' zeros, so
+    // the sums are exact.
+    std::vector<double> v(4 * slabs.size(), 0.0);
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        const auto& c = slabs[d].calibration;
+        if (!slabs[d].device || c.work_total == 0) continue;
+        v[4 * d] = 1;
+        v[4 * d + 1] = c.fixed;
+        v[4 * d + 2] = c.per_unit;
+        v[4 * d + 3] = c.work_total;
+    }
+    ranks.sum(v);
+    for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (slabs[d].device || v[4 * d] == 0) continue;
+        balancer.calibrate(d, v[4 * d + 1], v[4 * d + 2]);
+        slabs[d].calibration = {v[4 * d + 1], v[4 * d + 2], v[4 * d + 3]};
     }
 }
 

@@ -20,6 +20,9 @@ bool any_rank(Ranks& ranks, bool mine) {
     return n[0] > 0;
 }
 std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine) { return ranks.gather_text(mine); }
+std::vector<std::string> gather_text_to(Ranks& ranks, const std::string& mine, int root) {
+    return ranks.gather_text_to(mine, root);
+}
 void abort_all(const Ranks& ranks, int code, const std::string& message) {
     ranks.abort(code, message);
     std::abort();  // not reached (Ranks::abort does not return); says so to the compiler, which cannot see through the virtual call

@@ -28,6 +28,8 @@ public:
     virtual std::vector<std::uint64_t> gather_all(const std::vector<std::uint64_t>& mine) = 0;
     // Every rank's text, in rank order (any lengths).
     virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
+    // Every rank's text on rank `root` only, in rank order (any lengths); empty on the others.
+    virtual std::vector<std::string> gather_text_to(const std::string& mine, int root) = 0;
     // Rank `root`'s `v` on every rank (the same length on every rank).
     virtual void broadcast(std::vector<std::uint64_t>& v, int root) = 0;
 

@@ -97,9 +97,10 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             census.profile.cut_allowed = partition_.cut_allowed();
         }
     }
-    // Across ranks the first cuts are the static ones (equal work); the measured times move them
-    // from the first step on. (The calibration times devices side by side in one process.)
-    if (D > 1 && bo.mode == balance::Mode::dynamic && !across_ranks()) {
+    // Across ranks each rank times its own devices, and every rank hands every slab's fitted
+    // model to its balancer (summed: one rank's figures and the others' zeros), so every rank
+    // computes the same first cuts.
+    if (D > 1 && bo.mode == balance::Mode::dynamic) {
         say("timing each device on samples of the scene");
         ColumnSampler sample;
         std::vector<std::vector<std::uint32_t>> by_column;
@@ -120,6 +121,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             sample = [&](std::size_t lo, std::size_t hi) { return device::slab_particles(*plan, grid, lo, hi); };
         }
         calibrate(slabs_, partition_, sample, total, census, *balancer_);
+        if (across_ranks()) share_calibrations(slabs_, *ranks_.ranks, *balancer_);
     }
     std::vector<std::size_t> first{0, partition_.columns()};
     if (D > 1) {

@@ -93,15 +93,14 @@ public:
     std::vector<std::array<float, 2>> probe(const std::vector<std::array<double, 3>>& points);
 
     // A checkpoint's slab arrays (multi/slab_state.cpp): every slab's owned particles appended to
-    // c in slab order (across ranks gathered from every rank: collective), and put back over the
-    // owned particles the first pass sorted (by id where the split differs from the saved one).
+    // c in slab order (across ranks gathered to rank 0, the others' c holding none: collective),
+    // and put back over the owned particles the first pass sorted (by id where the split differs
+    // from the saved one).
     void save_owned(Checkpoint& c);
     void restore_owned(const Checkpoint& c);
     // Floating bodies (multi/slab_floating.cpp; null: none): their state, integrated on the host.
     RigidBodies* rigid_bodies() { return bodies_.get(); }
     const RigidBodies* rigid_bodies() const { return bodies_.get(); }
-    // Throws clsph::Error naming `what` (a plural: "free surfaces") across MPI ranks.
-    void one_process(const char* what) const;
 
     const SphParams& params() const {  // the same on every slab: this rank's first
         for (std::size_t d = 0; d < slabs_.size(); ++d)
@@ -112,6 +111,7 @@ public:
     std::vector<Slab>& slabs() { return slabs_; }
     bool here(std::size_t d) const { return ranks_.here(d); }
     bool across_ranks() const { return ranks_.ranks != nullptr; }
+    Ranks* ranks() const { return ranks_.ranks; }  // across ranks: this run's; null in one process
     std::vector<std::size_t> cuts() const { return Partition::cuts(slabs_); }
     std::size_t owned() const;
     std::size_t columns() const { return partition_.columns(); }

@@ -63,7 +63,8 @@ void SlabDriver::save_owned(Checkpoint& c) {
         return;
     }
     // Across ranks: each rank's slabs as bytes (slab, count, then the four arrays), gathered on
-    // every rank and laid out in slab order: the file one process on as many devices would write.
+    // rank 0 (which writes the file) and laid out in slab order: the file one process on as many
+    // devices would write. The other ranks send theirs and keep no particles.
     std::string mine;
     for (std::size_t d = 0; d < slabs_.size(); ++d) {
         if (!here(d)) continue;
@@ -78,7 +79,8 @@ void SlabDriver::save_owned(Checkpoint& c) {
     }
     struct Part { const char* at; std::uint64_t n; };
     std::vector<Part> parts(slabs_.size(), Part{nullptr, 0});
-    const auto all = ranks_.ranks->gather_text(mine);
+    const auto all = ranks_.ranks->gather_text_to(mine, 0);
+    if (ranks_.rank != 0) return;
     for (const auto& r : all)
         for (std::size_t k = 0; k + 16 <= r.size();) {
             std::uint64_t slab = 0, n = 0;
@@ -151,10 +153,6 @@ void SlabDriver::restore_owned(const Checkpoint& c) {
         }
         write_owned(s, {pos.data(), velrho.data(), accel.data(), ids.data()});
     }
-}
-
-void SlabDriver::one_process(const char* what) const {
-    if (across_ranks()) throw Error(std::string(what) + " across MPI ranks are not supported yet; run in one process for them");
 }
 
 }  // namespace clsph::multi

@@ -1,5 +1,7 @@
 #include "render/field.hpp"
 
+#include "multi/ranks.hpp"
+
 #include "render/renderer.hpp"
 
 #include "cl/kernel_args.hpp"
@@ -80,6 +82,12 @@ std::array<double, 2> field_range(multi::SlabDriver& driver, const device::Grid&
         const auto b = sampler.bounds(mode, driver.params(), *slabs[d].store);
         if (std::isfinite(b[0])) lo = std::min(lo, b[0]);
         if (std::isfinite(b[1])) hi = std::max(hi, b[1]);
+    }
+    if (Ranks* ranks = driver.ranks()) {  // every rank's particles
+        std::vector<double> ends{-lo, hi};
+        ranks->max(ends);
+        lo = -ends[0];
+        hi = ends[1];
     }
     if (!(lo <= hi)) lo = hi = 0;
     if (mode == 1) lo = 0;  // speeds from rest

@@ -1,5 +1,7 @@
 #include "render/scene_image.hpp"
 
+#include "render/rank_images.hpp"
+
 #include "render/field.hpp"
 #include "render/renderer.hpp"
 
@@ -94,6 +96,13 @@ std::vector<std::array<Vec3, 2>> wall_lines(const std::vector<BoxWalls>& walls) 
 namespace {
 
 
+// Across ranks, what the ranks other than 0 return: no picture (rank 0 finishes it), the range.
+Image unfinished(const std::array<double, 2>& range) {
+    Image none;
+    none.range = range;
+    return none;
+}
+
 // The devices' images composited by depth, the walls' outlines drawn over, on the background.
 Image finish(std::vector<DepthImage> images, const Scene& scene, const CameraView& camera) {
     DepthImage im;
@@ -157,7 +166,11 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     const std::uint32_t mode = field_mode(style.surface);
     const auto range = mode ? field_range(driver, grid, style) : std::array<double, 2>{NAN, NAN};
     std::vector<DepthImage> images;
+    Ranks* ranks = driver.ranks();
+    const bool root = !ranks || ranks->rank() == 0;
+    SlabImages<DepthImage> sent;  // across ranks, on the others: this rank's images, for rank 0
     for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (!driver.here(d)) continue;  // across ranks: drawn there
         if (mine[d].empty() && !(d == 0 && !all_solids.empty())) continue;
         const auto colour = style.surface == SurfaceColour::by_device ? device_colour(d) : kWater;
         Renderer r(*slabs[d].device);
@@ -174,7 +187,14 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
                                            *slabs[d].store, *slabs[d].cells);
             layers.front().values = &values;
         }
-        images.push_back(r.draw(camera, layers));
+        if (root)
+            images.push_back(r.draw(camera, layers));
+        else
+            sent.emplace_back(d, r.draw(camera, layers));
+    }
+    if (ranks) {  // the other ranks' slabs come after rank 0's: their images after its own
+        for (auto& [d, im] : gather_to_rank0(*ranks, sent)) images.push_back(std::move(im));
+        if (!root) return unfinished(range);
     }
     Image out = finish(std::move(images), scene, camera);
     out.range = range;
@@ -191,7 +211,11 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
     // read back and merged into it there, in the devices' order.
     RenderTarget target;
     cl_rt::Device* shows = nullptr;
+    Ranks* ranks = driver.ranks();
+    const bool root = !ranks || ranks->rank() == 0;
+    SlabImages<DepthImage> sent;  // across ranks, on the others: this rank's images, for rank 0
     for (std::size_t d = 0; d < slabs.size(); ++d) {
+        if (!driver.here(d)) continue;  // across ranks: drawn there
         const surface::DeviceSurface* part = d < surface.parts.size() ? surface.parts[d].get() : nullptr;
         // The triangles' count stays on the device: the capacity is drawn, each kernel stopping at the count.
         const bool water = part && part->triangle_capacity() > 0, boxes = d == 0 && !scene.solids.empty();
@@ -214,12 +238,25 @@ Image render_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sc
         }
         UploadedLayer moved;
         if (boxes) layers.push_back(solids_layer(cache, *slabs[d].device, scene, poses, moved));  // in the same image
-        if (!shows) {
+        if (!root) {
+            sent.emplace_back(d, r.draw(camera, layers));
+        } else if (!shows) {
             shows = slabs[d].device;
             target = r.render(camera, layers);
         } else {
             cache.finisher(*shows).merge(target, r.draw(camera, layers));
         }
+    }
+    if (ranks) {  // the other ranks' slabs come after rank 0's: merged after its own, in slab order
+        for (const auto& [d, im] : gather_to_rank0(*ranks, sent)) {
+            if (!shows) {  // none of rank 0's slabs draws: an empty image on its first device first
+                for (std::size_t k = 0; k < slabs.size() && !shows; ++k)
+                    if (driver.here(k)) shows = slabs[k].device;
+                target = cache.renderer(*shows).render(camera, {});
+            }
+            cache.finisher(*shows).merge(target, im);
+        }
+        if (!root) return unfinished(range);
     }
     Image out = shows ? cache.finisher(*shows).finish(target, line_pixels(camera, wall_lines(scene.walls)), {70, 70, 70},
                                                       kBackground, false)

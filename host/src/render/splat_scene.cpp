@@ -6,6 +6,7 @@
 #include "render/scene_image.hpp"
 #include "render/field.hpp"
 #include "render/frame_cache.hpp"
+#include "render/rank_images.hpp"
 #include "render/splat.hpp"
 
 #include "clsph/error.hpp"
@@ -57,20 +58,36 @@ Image splat_scene(multi::SlabDriver& driver, const device::Grid& grid, const Sce
     }
     // The first device here shades: its splats stay where they are drawn, the others' are read
     // back and merged into them there (only images cross devices).
+    // Across ranks the others send their slabs' splats to rank 0, which merges them after its own
+    // (their slabs come after its slabs), as one process merges its devices'.
+    Ranks* ranks = driver.ranks();
+    const bool root = !ranks || ranks->rank() == 0;
+    SlabImages<SplatImage> sent;
     Splatter* water = nullptr;
     cl_rt::Device* shading = nullptr;
     for (std::size_t d = 0; d < slabs.size(); ++d) {
         if (!driver.here(d)) continue;
         auto& s = slabs[d];
-        if (water && s.store->ranges.owned == 0) continue;
+        if ((water || !root) && s.store->ranges.owned == 0) continue;
         Splatter& splatter = cache.splatter(*s.device, grid);
         splatter.splat(camera, *s.store, s.store->ranges.first_owned(), s.store->ranges.owned, radius, field);
-        if (!water) {
+        if (!root) {
+            sent.emplace_back(d, splatter.read());
+        } else if (!water) {
             water = &splatter;
             shading = s.device;
         } else {
             water->merge(splatter.read());
         }
+    }
+    if (ranks) {
+        const auto received = gather_to_rank0(*ranks, sent);
+        if (!root) {
+            Image none;
+            if (field.mode) none.range = field.range;
+            return none;
+        }
+        for (const auto& [d, im] : received) water->merge(im);
     }
     if (!water) throw Error("splat: no device holds the run here");
     RenderTarget solids;

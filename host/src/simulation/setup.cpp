@@ -5,8 +5,8 @@
 #include "clsph/testing.hpp"
 #include "device/memory_census.hpp"
 #include "device/particle_store.hpp"
-#include "multi/rank_devices.hpp"
 #include "multi/ranks.hpp"
+#include "simulation/chain_devices.hpp"
 
 #include <algorithm>
 #include <sstream>
@@ -90,24 +90,20 @@ Opened open(const Scene& scene, const device::Grid& grid, const Options& options
     std::string spec = options.devices.empty() ? default_device_spec() : options.devices;
     const scene::LatticePlan* lattice = source.plan ? &*source.plan : nullptr;
     Interaction planned = Interaction::automatic;
-    if (options.ranks) {
-        // This rank's devices (dealt from the node's, or its own clause of a per-rank spec). The
-        // memory plan is one process's: across ranks a device that runs short says so when it
-        // allocates.
-        std::string mine;
-        for (auto i : multi::rank_devices(list_devices(), spec, options.ranks->place()))
-            mine += (mine.empty() ? "" : ",") + std::to_string(i);
-        spec = mine;
-    } else {
-        // The memory plan before any context or buffer: a scene that cannot fit stops here, and a
-        // device whose slab would hold a buffer above its largest allocation is opened as several slabs.
-        const auto infos = cl_rt::selected_infos(spec, open);
-        const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), infos, options)
-                                        : plan_memory(scene, source.particles, infos, options);
-        check_fits(plan);
-        open.slabs = plan.slabs_per_device();
-        planned = plan.interaction;
-    }
+    // The memory plan before any context or buffer, over the whole chain of slabs (across ranks
+    // every rank's devices, gathered, so every rank plans alike and stops alike): a scene that
+    // cannot fit stops here, and a device whose slab would hold a buffer above its largest
+    // allocation is opened as several slabs.
+    const ChainDevices chain = chain_devices(spec, open, options.ranks.get());
+    const MemoryPlan plan = lattice ? detail::plan_memory(scene, detail::census_of(scene, *lattice), chain.devices, options)
+                                    : plan_memory(scene, source.particles, chain.devices, options);
+    check_fits(plan);
+    const auto slabs = plan.slabs_per_device();
+    open.slabs.assign(slabs.begin() + static_cast<std::ptrdiff_t>(chain.first), slabs.begin() + static_cast<std::ptrdiff_t>(chain.end));
+    planned = plan.interaction;
+    // Across ranks this rank opens its own devices (dealt from the node's, or its clause of a
+    // per-rank spec).
+    if (options.ranks) spec = rank_spec(spec, *options.ranks);
     Opened o;
     o.devices = cl_rt::open_devices(spec, open);
     std::vector<cl_rt::Device*> devs;

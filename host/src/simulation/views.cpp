@@ -96,20 +96,17 @@ std::vector<BodySample> Simulation::bodies() const {
 
 TriangleMesh Simulation::surface(const SurfaceOptions& options) {
     auto& m = *impl_;
-    m.driver.one_process("free surfaces");
     return cl_rt::guarded("extracting the free surface", "",
                           [&] { return surface::extract_surface(m.driver, m.grid, m.scene, options, m.surfaces); });
 }
 
 Image Simulation::render(const TriangleMesh& surface, const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
-    m.driver.one_process("images");
     return cl_rt::guarded("rendering an image", "", [&] { return render::render_scene(m.driver, m.grid, m.scene, surface, camera, style); });
 }
 
 Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
     auto& m = *impl_;
-    m.driver.one_process("images");
     if (m.scene.render.method == RenderMethod::surface)
         return cl_rt::guarded("rendering an image", "", [&] {
             // The surface stays where the devices made it, its counts too; each device draws its own
@@ -119,7 +116,7 @@ Image Simulation::image(const CameraView& camera, const ImageStyle& style) {
             for (int attempt = 0;; ++attempt) {
                 surface::surface_on_devices(m.driver, m.grid, m.scene, image_surface(m.scene, camera), m.surfaces);
                 Image img = render::render_scene(m.driver, m.grid, m.scene, m.surfaces, camera, style, m.frames, poses);
-                if (m.surfaces.settle()) return img;
+                if (surface::settle_everywhere(m.driver, m.surfaces)) return img;
                 if (attempt == 3) throw Error("image: the surface's buffers did not settle after four attempts (a bug: please report it)");
             }
         });

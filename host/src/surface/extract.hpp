@@ -40,6 +40,9 @@ struct DeviceParts {
 void surface_on_devices(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
                         const SurfaceOptions& options, DeviceParts& into);
 
+// into.settle() on every rank (across ranks: true only if it is true on each, so all redo or none).
+bool settle_everywhere(multi::SlabDriver& driver, DeviceParts& into);
+
 // The surface into `into`, taken again until every count fits its capacity (a redo happens on
 // the first surface and when the surface outgrows the last one's capacities).
 void settled_surface(multi::SlabDriver& driver, const device::Grid& grid, const Scene& scene,
