@@ -9,6 +9,10 @@
 //   viscosity    Monaghan (1992): Pi_ij = -alpha c0 mu_ij / rho_mean, mu = h v_ij.x_ij / (r^2 + eta^2),
 //                when v_ij.x_ij < 0; alpha between fluid particles, alpha_wall between a fluid
 //                particle and a boundary particle (at rest: wall friction; 0 by default)
+//   laminar      -DCLSPH_VISCOSITY=1 instead of Monaghan's: Morris et al. (1997) in the form of
+//                Lo & Shao (2002), a_i += sum_j m 4 nu (x_ij . grad_i W_ij) / ((rho_i + rho_j)
+//                (r^2 + eta^2)) v_ij, between fluid particles and with boundary particles alike
+//                (walls: no-slip at their velocity)
 //   gravity      added to fluid accelerations
 // Dynamic boundary particles (DBC, Crespo et al. 2007) get only drho/dt: they do not move.
 // -DCLSPH_SUMMATION: fluid densities come from the summation pass (density.cl), so fluid drho = 0.
@@ -19,6 +23,9 @@
 
 #ifndef CLSPH_DIFFUSION
 #define CLSPH_DIFFUSION 2
+#endif
+#ifndef CLSPH_VISCOSITY
+#define CLSPH_VISCOSITY 0
 #endif
 
 typedef struct {
@@ -86,11 +93,16 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
     if (st->fluid) {
         const float p_j = pressure_of(sp, rho_j);
         float coef = (st->p + p_j) / (st->rho * rho_j);
+#if CLSPH_VISCOSITY == 0
         if (vd < 0.0f) {
             const float mu = sp->h * vd / (r2 + sp->eta2);
             coef += -(nb->fluid ? sp->visc_alpha : sp->visc_alpha_wall) * sp->c0 * mu / (0.5f * (st->rho + rho_j));
         }
         st->acc += (-m * coef * f) * d;
+#else
+        st->acc += (-m * coef * f) * d;
+        st->acc += (m * sp->visc_laminar * f * r2 / ((st->rho + rho_j) * (r2 + sp->eta2))) * vij;
+#endif
     }
 }
 
@@ -144,15 +156,23 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
 #endif
     const float p_j = pressure_of(sp, rho_j);
     floatV coef = (st->p + p_j) / (st->rho * rho_j);
+#if CLSPH_VISCOSITY == 0
     {
         const float alpha = fluid_j ? sp->visc_alpha : sp->visc_alpha_wall;
         const floatV mu = sp->h * vd / (r2 + sp->eta2);
         coef += select((floatV)(0.0f), (-alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
     }
+#endif
     const floatV s = mf * coef;  // a_i += -m coef F (x_i - x_j) = m coef F rij
     st->ax += s * rx;
     st->ay += s * ry;
     st->az += s * rz;
+#if CLSPH_VISCOSITY != 0
+    const floatV lam = mf * sp->visc_laminar * r2 / ((st->rho + rho_j) * (r2 + sp->eta2));
+    st->ax += lam * vx;
+    st->ay += lam * vy;
+    st->az += lam * vz;
+#endif
 }
 
 #define LANES_T ForceLanes

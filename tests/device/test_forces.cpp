@@ -1,6 +1,7 @@
 // The force pass against a CPU implementation of the same formulas (kernels/forces.cl), every
-// device, every interaction form, each diffusion variant, viscosity on and off, both kernels; the
-// clusters form bitwise the fine form (the same terms summed in the same order).
+// device, every interaction form, each diffusion variant, artificial viscosity on and off and
+// laminar viscosity, both kernels; the clusters form bitwise the fine form (the same terms summed
+// in the same order).
 #include "device/physics.hpp"
 #include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
@@ -67,12 +68,19 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
             }
             if (fi) {
                 double coef = (pi + pres(rj)) / (ri * rj);                        // pressure
-                if (vd < 0)  // viscosity: alpha between fluid particles, alpha_wall with a boundary particle
+                if (vd < 0 && ph.viscosity == Viscosity::artificial)  // alpha between fluid, alpha_wall with boundary
                     coef += -(fj ? ph.alpha : ph.alpha_wall) * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));
                 ax += -m * coef * f * d[0];
                 ay += -m * coef * f * d[1];
                 az += -m * coef * f * d[2];
                 scale += std::abs(m * coef * f) * r;
+                if (ph.viscosity != Viscosity::artificial) {  // Morris (laminar): fluid and boundary neighbours alike
+                    const double lam = m * 4 * ph.kinematic_viscosity * f * r2 / ((ri + rj) * (r2 + eta2));
+                    ax += lam * v[0];
+                    ay += lam * v[1];
+                    az += lam * v[2];
+                    scale += std::abs(lam) * (std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]));
+                }
             }
         }
         if (!fi && mdbc) drho = 0;  // mDBC: boundary densities come from ghost nodes, not continuity
@@ -135,6 +143,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         double hdp;  // 1.5: cells of 27 lattice sites; 2.2: of ~85, so cells take several 32-particle chunks
         int reach;   // the grid's reach (1: cells of a support; 2: half a support along a and b)
         bool mdbc;   // boundaries.method mdbc (boundary particles get no drho/dt)
+        Viscosity viscosity = Viscosity::artificial;
     };
     const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false},
                               {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5, 1, false},
@@ -144,7 +153,10 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                               {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2, 1, false},
                               {Diffusion::fourtakas, 0.5, KernelType::cubic_spline, DensityMode::continuity, 2.2, 2, false},
                               {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true},
-                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false}};
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false, Viscosity::laminar},
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::cubic_spline, DensityMode::summation, 2.2, 2, false, Viscosity::laminar},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true, Viscosity::laminar}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs) {
@@ -164,6 +176,9 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 s.physics.alpha = c.alpha;
                 s.physics.alpha_wall = 0.5 * c.alpha;
                 s.boundary_method = c.mdbc ? BoundaryMethod::mdbc : BoundaryMethod::dbc;
+                s.physics.viscosity = c.viscosity;
+                s.physics.kinematic_viscosity = 0.02;  // the laminar term as large as the pressure term here
+                CAPTURE(static_cast<int>(c.viscosity));
                 CAPTURE(c.mdbc);
                 s.physics.kernel = c.kernel;
                 s.physics.density = c.density;

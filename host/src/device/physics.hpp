@@ -135,6 +135,7 @@ private:
     const Grid& grid_;
     SphParams sp_{};
     std::string point_options_;
+    std::string viscosity_options_;  // -DCLSPH_VISCOSITY=... for the laminar models (forces.cl, floating.cl)
     Interaction form_;
     bool summation_;
     bool mdbc_;
@@ -170,7 +171,7 @@ private:
     void write_dt(double dt);  // the synchronous path: dt_f from the host
     float dt_written_ = 0;
     bool dt_written_valid_ = false;
-    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0;
+    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0, dt_viscous_ = 0;
     cl_rt::PinnedArray<double> clock_host_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;
