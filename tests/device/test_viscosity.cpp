@@ -1,8 +1,8 @@
 // Laminar viscosity against analytic flows: Poiseuille flow (driven by a body force) and Couette
 // flow (driven by a wall moving along itself), in a channel periodic along the flow. The channel
-// is a duct: clsph wraps one axis only, so the plates (z) have side walls (y) 4 channel heights
+// is a duct: clsph wraps one axis only, so the plates (z) have side walls (y) 3.8 channel heights
 // apart, and the analytic solution is the duct's (a Fourier series), which at the centre plane
-// y = W/2 is the plates' parabola (Poiseuille) or line (Couette) within 0.4 %.
+// y = W/2 is the plates' parabola (Poiseuille) or line (Couette) within 0.6 %.
 //
 // Wall placement (an assumption the tests state): DBC walls of 3 layers at 0, -dp, -2dp outside
 // the fluid's lattice, whose first layer is at dp. The boundary particles carry the wall's
@@ -146,7 +146,7 @@ TEST_CASE("laminar Poiseuille flow between plates: the steady profile within 4 %
     run_to_steady(sim, c, nu);
     const double centre = duct_poiseuille(c.W() / 2, c.H() / 2, c.W(), c.H(), g, nu);
     MESSAGE("analytic centre speed " << centre << " m/s (plates: " << umax << ")");
-    CHECK(std::abs(centre - umax) < 0.005 * umax);  // the centre plane is the plates' parabola
+    CHECK(std::abs(centre - umax) < 0.01 * umax);  // the centre plane is the plates' parabola within 1 %
     const double err = profile_error(
         c, sim.particles(), [&](double y, double z) { return duct_poiseuille(y, z, c.W(), c.H(), g, nu); }, centre);
     MESSAGE("Poiseuille: largest layer error " << 100 * err << " % of the centre speed");
@@ -163,7 +163,7 @@ TEST_CASE("laminar Couette flow between plates: the steady profile within 2 % of
     run_to_steady(sim, c, nu);
     const double mid = duct_couette(c.W() / 2, c.H() / 2, c.W(), c.H(), U);
     MESSAGE("analytic speed at mid-height " << mid << " m/s (plates: " << U / 2 << ")");
-    CHECK(std::abs(mid - U / 2) < 0.005 * U);
+    CHECK(std::abs(mid - U / 2) < 0.01 * U);  // and the plates' line
     const double err =
         profile_error(c, sim.particles(), [&](double y, double z) { return duct_couette(y, z, c.W(), c.H(), U); }, U);
     MESSAGE("Couette: largest layer error " << 100 * err << " % of the lid speed");
