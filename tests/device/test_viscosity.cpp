@@ -22,6 +22,7 @@
 // Small channels (12 x 48 spacings) and a large viscosity (Re < 1), so the steady state comes in
 // a few hundred viscously limited steps: one device (pocl's threaded CPU device in CI).
 #include "clsph/simulation.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/validation.hpp"
 
 #include <doctest/doctest.h>
@@ -169,5 +170,31 @@ TEST_CASE("laminar Couette flow between plates: the steady profile within 2 % of
     MESSAGE("Couette: largest layer error " << 100 * err << " % of the lid speed");
     CHECK(err < 0.02);
     CHECK(sim.info().removed == 0);
+}
+
+TEST_CASE("the laminar step obeys 0.125 h^2 / nu, synchronous and stepping ahead alike, bitwise") {
+    // The Poiseuille channel's first steps: the viscous limit is below the acoustic one there.
+    const Channel c;
+    const double nu = 0.01, c0 = 10;
+    auto [scene, particles] = channel_setup(c, nu, 8 * nu * 0.5 / (c.H() * c.H()), c0, [](double) { return 0.0; });
+    const double limit = 0.125 * scene.physics.h() * scene.physics.h() / nu;
+    CHECK(scene.physics.viscous_dt() == limit);
+    CHECK(limit < scene.physics.cfl * scene.physics.h() / c0);  // it is the viscous limit that rules
+    test::State got[2];
+    for (int ahead = 0; ahead < 2; ++ahead) {
+        CAPTURE(ahead);
+        Options o = test::validation_options();
+        o.synchronous = ahead == 0;
+        Simulation sim(scene, particles, o);
+        for (int k = 0; k < 30; ++k) sim.step();
+        CHECK(sim.info().dt == limit);
+        CHECK(sim.time() == doctest::Approx(30 * limit).epsilon(1e-12));
+        got[ahead] = test::state_of(sim);
+    }
+    CHECK(test::differing(got[0], got[1]) == 0);
+    // Artificial viscosity has no such limit.
+    Scene artificial = scene;
+    artificial.physics.viscosity = Viscosity::artificial;
+    CHECK(std::isinf(artificial.physics.viscous_dt()));
 }
 }
