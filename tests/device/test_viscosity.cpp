@@ -46,13 +46,14 @@ struct Channel {
 // The scene (physics, domain) and its particles: fluid at rest on the lattice, walls at the
 // velocity wall_u(z) gives them (x component), all at rho0.
 std::pair<Scene, Particles> channel_setup(const Channel& c, double nu, double gx, double c0,
-                                          const std::function<double(double)>& wall_u) {
+                                          const std::function<double(double)>& wall_u,
+                                          Viscosity model = Viscosity::laminar) {
     Scene s;
     const double dp = c.dp;
     s.physics.dp = dp;
     s.physics.hdp = 1.5;
     s.physics.c0 = c0;
-    s.physics.viscosity = Viscosity::laminar;
+    s.physics.viscosity = model;
     s.physics.kinematic_viscosity = nu;
     s.physics.gravity = {gx, 0, 0};  // the driving body force, along the periodic axis
     // Fourtakas' diffusion subtracts a hydrostatic density gradient along gravity, which a body
@@ -196,5 +197,35 @@ TEST_CASE("the laminar step obeys 0.125 h^2 / nu, synchronous and stepping ahead
     Scene artificial = scene;
     artificial.physics.viscosity = Viscosity::artificial;
     CHECK(std::isinf(artificial.physics.viscous_dt()));
+}
+
+TEST_CASE("laminar+sps reduces to laminar: at rest, in uniform motion, and in slow Couette flow") {
+    const Channel c;
+    const double nu = 0.01, U = 0.5, c0 = 10;
+    const double top = (c.nz + 0.5) * c.dp;
+    for (const double u0 : {0.0, 0.3}) {  // a uniform velocity: no gradient, no stress
+        CAPTURE(u0);
+        auto [lam_scene, lam_particles] = channel_setup(c, nu, 0.0, c0, [&](double) { return u0; });
+        Particles start = lam_particles;
+        for (std::size_t i = 0; i < start.size(); ++i) start.velocity[i][0] = static_cast<float>(u0);
+        Scene sps_scene = lam_scene;
+        sps_scene.physics.viscosity = Viscosity::laminar_sps;
+        Simulation lam(lam_scene, start, test::validation_options()), sps(sps_scene, start, test::validation_options());
+        for (int k = 0; k < 20; ++k) {
+            lam.step();
+            sps.step();
+        }
+        CHECK(test::differing(test::state_of(lam), test::state_of(sps)) == 0);
+    }
+    // Couette flow: |S| = U / H, so nu_t = (0.12 dp)^2 U / H = 2e-7 m^2/s against nu = 1e-2: the
+    // profile is the laminar one.
+    auto [scene, particles] =
+        channel_setup(c, nu, 0.0, c0, [&](double z) { return z > top ? U : 0.0; }, Viscosity::laminar_sps);
+    Simulation sim(scene, particles, test::validation_options());
+    run_to_steady(sim, c, nu);
+    const double err =
+        profile_error(c, sim.particles(), [&](double y, double z) { return duct_couette(y, z, c.W(), c.H(), U); }, U);
+    MESSAGE("Couette with SPS: largest layer error " << 100 * err << " % of the lid speed");
+    CHECK(err < 0.02);
 }
 }

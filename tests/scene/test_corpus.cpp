@@ -55,7 +55,6 @@ const std::vector<Case> corpus_cases = {
     {"kinematic_viscosity_negative.json", "physics.kinematic_viscosity: must be a finite number >= 0"},
     {"bad_viscosity.json",
      "physics.viscosity: unknown value \"turbulent\" (expected one of \"artificial\", \"laminar\", \"laminar+sps\")"},
-    {"viscosity_sps_unavailable.json", "physics.viscosity: \"laminar+sps\" (the sub-particle-scale model) is not implemented yet"},
     {"bad_face.json", "boundaries.walls[0].faces[1]: unknown face \"bottom\""},
     {"layers_fraction.json", "boundaries.walls[0].layers: expected an integer, got 2.5"},
     {"layers_zero.json", "boundaries.walls[0].layers: must be 1 to 16"},

@@ -88,6 +88,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     }
     if (*device.quirks().interaction_options) interaction += std::string(" ") + device.quirks().interaction_options;
     forces_k_ = device.kernel("forces.cl", "forces", interaction);
+    if (scene.physics.viscosity == Viscosity::laminar_sps) build_sps(opts);
     if (summation_) density_k_ = device.kernel("density.cl", "summation_density", interaction);
     const std::string integ = opts + " -DWG=" + std::to_string(wg_);
     commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
@@ -168,10 +169,12 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         commit_k_.setArg(3, ps.velrho.get());
         device_.launch("sph.commit_density", commit_k_, n, wg_);
     }
+    if (sps_) sps_stress(ps, cells);  // with the step's final densities
     const cl_uint a = set_loop_args(forces_k_, ps, cells, g, sp_, per_cell, clusters_.get());
     forces_k_.setArg(a, ps.velrho.get());
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());
+    if (sps_) forces_k_.setArg(a + 3, tau_.get());
     launch("sph.forces", forces_k_);
     if (mdbc_) boundary_densities(ps, cells);
 }
