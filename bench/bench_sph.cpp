@@ -71,7 +71,11 @@ int main(int argc, char** argv) {
     std::string balance = "dynamic", balance_log, trace;
     bool synchronous = false;
     std::size_t max_steps = 0, slabs = 1;
-    std::string scene_file;
+    std::string scene_file, viscosity = "artificial";
+    double nu = clsph::PhysicsParams{}.kinematic_viscosity;
+    app.add_option("--viscosity", viscosity, "viscosity model: artificial | laminar | laminar+sps (physics.viscosity)")
+        ->check(CLI::IsMember({"artificial", "laminar", "laminar+sps"}));
+    app.add_option("--nu", nu, "kinematic viscosity of the laminar model (m^2/s; physics.kinematic_viscosity)");
     app.add_option("--scene", scene_file, "a scene file instead of the built-in SPHERIC-2 (its dp replaced by --dp; its probes sampled at the end)");
     app.add_option("--steps", max_steps, "time at most N steps (0: no limit; a billion particles: a few)");
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
@@ -94,6 +98,9 @@ int main(int argc, char** argv) {
             scene = clsph::Scene::from_file(scene_file);
             scene.physics.dp = dp;
         }
+        if (viscosity == "laminar") scene.physics.viscosity = clsph::Viscosity::laminar;
+        if (viscosity == "laminar+sps") scene.physics.viscosity = clsph::Viscosity::laminar_sps;
+        scene.physics.kinematic_viscosity = nu;
         clsph::Options opts;
         opts.devices = devices;
         opts.profile = true;

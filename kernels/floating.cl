@@ -3,13 +3,19 @@
 //   floating_forces: per owned particle of a floating body (body_rest[id].w >= 0) the force of
 //     its fluid neighbours, the reaction of the pair terms the fluid gets from it in forces.cl:
 //       F_i = -m^2 sum_j [(p_i + p_j) / (rho_i rho_j) + Pi_ij] F_ij (x_i - x_j)
-//     (pressure; Monaghan's viscosity with alpha_wall, where v_ij . x_ij < 0); others get 0.
+//     (pressure; Monaghan's viscosity with alpha_wall, where v_ij . x_ij < 0, or with
+//     -DCLSPH_VISCOSITY=1 the laminar term's reaction, m^2 4 nu F r^2 / ((rho_i + rho_j)(r^2 +
+//     eta^2)) v_ij); others get 0.
 //   floating_sums: per body and work-group, over the owned particles of the body, the 12 sums
 //     F (3) and M_ab = r0_a F_b (9, row-major; r0 = body_rest[id].xyz, the particle's offset from
 //     the body's centre at rest), each term rounded to 2^-32 first (convert_long_sat_rte), so that
 //     integer sums in any order and over any split of the particles give the same bits. The host
 //     adds the partials of every group and device (RigidBodies::set_forces turns M into torque).
 #include "sph_kernel.h"
+
+#ifndef CLSPH_VISCOSITY
+#define CLSPH_VISCOSITY 0
+#endif
 
 inline int body_of(const uint word, __global const float4* body_rest, const uint body_ids) {
     if ((word >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID) return -1;
@@ -35,15 +41,20 @@ inline void body_pair(BodyForce* st, const SphParams* sp, const BodyNeighbour* s
     const float f = kernel_f(sp, r);
     const float3 d = -rij;  // x_i - x_j
     const float3 vij = self->velrho.xyz - nb->velrho.xyz;
-    const float vd = dot(vij, d);
     const float rho_j = nb->velrho.w;
     const float p_j = pressure_of(sp, rho_j);
     float coef = (st->p + p_j) / (st->rho * rho_j);
+#if CLSPH_VISCOSITY == 0
+    const float vd = dot(vij, d);
     if (vd < 0.0f) {
         const float mu = sp->h * vd / (r2 + sp->eta2);
         coef += -sp->visc_alpha_wall * sp->c0 * mu / (0.5f * (st->rho + rho_j));
     }
     st->acc += (-sp->mass * coef * f) * d;
+#else
+    st->acc += (-sp->mass * coef * f) * d;
+    st->acc += (sp->mass * sp->visc_laminar * f * r2 / ((st->rho + rho_j) * (r2 + sp->eta2))) * vij;
+#endif
 }
 
 #define INTERACTION_NAME floating_forces

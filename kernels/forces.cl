@@ -9,6 +9,13 @@
 //   viscosity    Monaghan (1992): Pi_ij = -alpha c0 mu_ij / rho_mean, mu = h v_ij.x_ij / (r^2 + eta^2),
 //                when v_ij.x_ij < 0; alpha between fluid particles, alpha_wall between a fluid
 //                particle and a boundary particle (at rest: wall friction; 0 by default)
+//   laminar      -DCLSPH_VISCOSITY=1 instead of Monaghan's: Morris et al. (1997) in the form of
+//                Lo & Shao (2002), a_i += sum_j m 4 nu (x_ij . grad_i W_ij) / ((rho_i + rho_j)
+//                (r^2 + eta^2)) v_ij, between fluid particles and with boundary particles alike
+//                (walls: no-slip at their velocity)
+//   SPS          -DCLSPH_VISCOSITY=2: laminar plus the sub-particle-scale stress of sps.cl (its pass
+//                before this one), a_i += sum_j m (tau_i / rho_i^2 + tau_j / rho_j^2) . grad_i W_ij
+//                (boundary particles' tau is 0)
 //   gravity      added to fluid accelerations
 // Dynamic boundary particles (DBC, Crespo et al. 2007) get only drho/dt: they do not move.
 // -DCLSPH_SUMMATION: fluid densities come from the summation pass (density.cl), so fluid drho = 0.
@@ -20,12 +27,37 @@
 #ifndef CLSPH_DIFFUSION
 #define CLSPH_DIFFUSION 2
 #endif
+#ifndef CLSPH_VISCOSITY
+#define CLSPH_VISCOSITY 0
+#endif
 
 typedef struct {
     float4 pos;
     float4 velrho;
     uint fluid;
+#if CLSPH_VISCOSITY == 2
+    float4 ta, tb;  // tau / rho^2 of sps.cl: (xx, xy, xz, yy), (yz, zz, 0, 0)
+#endif
 } ForceNeighbour;
+
+#if CLSPH_VISCOSITY == 2
+#define SPS_ARGS , __global const float4 *tau
+#define LOAD_SPS(nb, j)              \
+    do {                             \
+        (nb).ta = tau[2u * (j)];     \
+        (nb).tb = tau[2u * (j) + 1u]; \
+    } while (0)
+// m (tau_i + tau_j) . F d (grad_i W = F (x_i - x_j)), the tensors symmetric.
+inline float3 sps_term(const float4 a, const float4 b, const float3 fr) {
+    return (float3)(a.x * fr.x + a.y * fr.y + a.z * fr.z, a.y * fr.x + a.w * fr.y + b.x * fr.z,
+                    a.z * fr.x + b.x * fr.y + b.y * fr.z);
+}
+#else
+#define SPS_ARGS
+#define LOAD_SPS(nb, j) \
+    do {                \
+    } while (0)
+#endif
 
 typedef struct {
     float3 acc;
@@ -36,12 +68,13 @@ typedef struct {
 
 #define INTERACTION_NAME forces
 #define INTERACTION_ARGS \
-    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel SPS_ARGS
 #define NEIGHBOUR_T ForceNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
         (nb).velrho = velrho[j];                                                \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
+        LOAD_SPS(nb, j);                                                        \
     } while (0)
 #define STATE_T ForceState
 #define STATE_INIT(st, i, self)                      \
@@ -86,11 +119,19 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
     if (st->fluid) {
         const float p_j = pressure_of(sp, rho_j);
         float coef = (st->p + p_j) / (st->rho * rho_j);
+#if CLSPH_VISCOSITY == 0
         if (vd < 0.0f) {
             const float mu = sp->h * vd / (r2 + sp->eta2);
             coef += -(nb->fluid ? sp->visc_alpha : sp->visc_alpha_wall) * sp->c0 * mu / (0.5f * (st->rho + rho_j));
         }
         st->acc += (-m * coef * f) * d;
+#else
+        st->acc += (-m * coef * f) * d;
+        st->acc += (m * sp->visc_laminar * f * r2 / ((st->rho + rho_j) * (r2 + sp->eta2))) * vij;
+#endif
+#if CLSPH_VISCOSITY == 2
+        st->acc += m * sps_term(self->ta + nb->ta, self->tb + nb->tb, f * d);
+#endif
     }
 }
 
@@ -119,10 +160,13 @@ typedef struct {
     floatV vx, vy, vz, rho, p;
     intV fluid;  // -1 in fluid lanes
     floatV ax, ay, az, drho;
+#if CLSPH_VISCOSITY == 2
+    floatV txx, txy, txz, tyy, tyz, tzz;  // tau_i / rho_i^2
+#endif
 } ForceLanes;
 
 inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, const uint id_j, const floatV rx,
-                        const floatV ry, const floatV rz, const floatV r2, const intV hit) {
+                        const floatV ry, const floatV rz, const floatV r2, const intV hit SPS_ARGS, const uint j) {
     const bool fluid_j = (id_j >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;
     const floatV r = sqrt(r2);
     const floatV mf = select((floatV)(0.0f), sp->mass * kernel_f_lanes(sp, r), hit & (r2 > 1e-18f));
@@ -144,15 +188,35 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
 #endif
     const float p_j = pressure_of(sp, rho_j);
     floatV coef = (st->p + p_j) / (st->rho * rho_j);
+#if CLSPH_VISCOSITY == 0
     {
         const float alpha = fluid_j ? sp->visc_alpha : sp->visc_alpha_wall;
         const floatV mu = sp->h * vd / (r2 + sp->eta2);
         coef += select((floatV)(0.0f), (-alpha * sp->c0) * mu / (0.5f * (st->rho + rho_j)), vd < 0.0f);
     }
+#endif
     const floatV s = mf * coef;  // a_i += -m coef F (x_i - x_j) = m coef F rij
     st->ax += s * rx;
     st->ay += s * ry;
     st->az += s * rz;
+#if CLSPH_VISCOSITY != 0
+    const floatV lam = mf * sp->visc_laminar * r2 / ((st->rho + rho_j) * (r2 + sp->eta2));
+    st->ax += lam * vx;
+    st->ay += lam * vy;
+    st->az += lam * vz;
+#endif
+#if CLSPH_VISCOSITY == 2
+    {  // grad_i W = F (x_i - x_j) = -F rij; mf = m F
+        const float4 a = tau[2u * j], b = tau[2u * j + 1u];
+        const floatV xx = st->txx + a.x, xy = st->txy + a.y, xz = st->txz + a.z;
+        const floatV yy = st->tyy + a.w, yz = st->tyz + b.x, zz = st->tzz + b.y;
+        st->ax -= mf * (xx * rx + xy * ry + xz * rz);
+        st->ay -= mf * (xy * rx + yy * ry + yz * rz);
+        st->az -= mf * (xz * rx + yz * ry + zz * rz);
+    }
+#else
+    (void)j;
+#endif
 }
 
 #define LANES_T ForceLanes
@@ -177,8 +241,37 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
         (st).p = vloadV(0, tp);                                                  \
         (st).fluid = vloadV(0, tfluid);                                          \
         (st).ax = (st).ay = (st).az = (st).drho = (floatV)(0.0f);                \
+        LANES_INIT_SPS(st, base, count);                                         \
     } while (0)
-#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit)
+#if CLSPH_VISCOSITY == 2
+#define LANES_INIT_SPS(st, base, count)                                          \
+    do {                                                                         \
+        float t[6][VW];                                                          \
+        for (uint l = 0; l < VW; ++l) {                                          \
+            const uint i_ = (base) + min(l, (count) - 1u);                       \
+            const float4 a = tau[2u * i_], b = tau[2u * i_ + 1u];                \
+            t[0][l] = a.x;                                                       \
+            t[1][l] = a.y;                                                       \
+            t[2][l] = a.z;                                                       \
+            t[3][l] = a.w;                                                       \
+            t[4][l] = b.x;                                                       \
+            t[5][l] = b.y;                                                       \
+        }                                                                        \
+        (st).txx = vloadV(0, t[0]);                                              \
+        (st).txy = vloadV(0, t[1]);                                              \
+        (st).txz = vloadV(0, t[2]);                                              \
+        (st).tyy = vloadV(0, t[3]);                                              \
+        (st).tyz = vloadV(0, t[4]);                                              \
+        (st).tzz = vloadV(0, t[5]);                                              \
+    } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) \
+    force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, tau, j)
+#else
+#define LANES_INIT_SPS(st, base, count) \
+    do {                                \
+    } while (0)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, j)
+#endif
 #define LANES_STORE(st, base, count)                                                        \
     do {                                                                                    \
         float tax[VW], tay[VW], taz[VW], tdrho[VW];                                         \

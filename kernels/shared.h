@@ -40,6 +40,8 @@ typedef struct {
     clsph_float hydro;                   // rho0^2 / (gamma B), for the Fourtakas hydrostatic term
     clsph_float gx, gy, gz;              // gravity
     clsph_float rho_min, rho_max;        // allowed density band (absolute)
+    clsph_float visc_laminar;            // 4 nu, nu the kinematic viscosity (laminar models)
+    clsph_float sps_smag, sps_blin;      // SPS: (Cs dp)^2, Cs = 0.12; (2/3) CI dp^2, CI = 0.0066
 } SphParams;
 
 // mDBC (kernels/mdbc.cl): the smallest |det| of the dimensionless correction matrix (the identity,

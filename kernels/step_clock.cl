@@ -27,7 +27,7 @@
 #define CLOCK_WG 1
 #endif
 __kernel void end_step(const uint groups, const double cfl, const double h, const double c0, const double fixed_dt,
-                       const double dt_floor,
+                       const double dt_floor, const double dt_viscous,
                        __global const float4* partials, __global uint* bad, __global const uint* ids,
                        __global const float4* velrho, __global uint* settle_counters,
                        __global const uint* cell_count, __global double* clock, __global float* dt_f,
@@ -64,7 +64,7 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
         const double amax = sqrt(amax2), vmax = sqrt(vmax2);
         const double dt_force = amax > 0.0 ? sqrt(h / amax) : INFINITY;
         const double dt_sound = h / (c0 + vmax);
-        next = cfl * fmin(dt_force, dt_sound);
+        next = fmin(cfl * fmin(dt_force, dt_sound), dt_viscous);  // dt_viscous: infinity, or 0.125 h^2 / nu
     }
     const double t = clock[0] + clock[1];
     clock[0] = t;

@@ -43,9 +43,11 @@ std::map<std::uint32_t, std::array<double, 7>> by_id(Simulation& sim) {
 // With the dynamic balance the cuts follow measured times, so two straight runs already cut
 // differently: the particle arrays are bitwise the same, the sums over devices (kinetic energy)
 // only to round-off. With static cuts, the checkpoint's cuts are restored and every row is exact.
-void check_restart_bitwise(std::size_t devices, bool synchronous, BalanceMode balance = BalanceMode::fixed) {
+void check_restart_bitwise(std::size_t devices, bool synchronous, BalanceMode balance = BalanceMode::fixed,
+                           Viscosity viscosity = Viscosity::artificial) {
     const bool exact_rows = devices == 1 || balance != BalanceMode::dynamic;
-    const Scene scene = sliding_dam();
+    Scene scene = sliding_dam();
+    scene.physics.viscosity = viscosity;
     Options o;
     o.devices = test::device_spec(devices);
     o.synchronous = synchronous;
@@ -117,6 +119,11 @@ TEST_CASE("the same from the step ahead (one device with fp64)") {
     check_restart_bitwise(1, false);
 }
 
+TEST_CASE("laminar+sps: resumed bitwise, synchronous and from the step ahead (the stress is not stored)") {
+    check_restart_bitwise(1, true, BalanceMode::fixed, Viscosity::laminar_sps);
+    check_restart_bitwise(1, false, BalanceMode::fixed, Viscosity::laminar_sps);
+}
+
 TEST_CASE("a flipped byte, a truncated file, another scene's checkpoint: refused naming file and reason") {
     const Scene scene = sliding_dam();
     Options o;
@@ -165,6 +172,7 @@ TEST_CASE("N + M straight == N, checkpoint, read back, M on three devices of one
     REQUIRE(devs.size() >= 3);
     check_restart_bitwise(3, true, BalanceMode::fixed);
     check_restart_bitwise(3, true, BalanceMode::dynamic);
+    check_restart_bitwise(3, true, BalanceMode::fixed, Viscosity::laminar_sps);  // two halo columns
 }
 
 TEST_CASE("a checkpoint of three devices resumed on one: the same particles, positions within round-off") {

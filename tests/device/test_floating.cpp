@@ -85,9 +85,18 @@ void cpu_forces(const Scene& s, const Particles& p, const std::vector<int>& body
             if (r2 >= 4 * h * h) continue;
             const double r = std::sqrt(r2), fk = test::reference_f(ph.kernel, h, r), rj = p.density[j];
             double coef = (pi + pres(rj)) / (ri * rj);
-            if (vd < 0) coef += -ph.alpha_wall * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));
+            const bool laminar = ph.viscosity != Viscosity::artificial;
+            if (vd < 0 && !laminar) coef += -ph.alpha_wall * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));
             for (int k = 0; k < 3; ++k) f[i][k] += -m * m * coef * fk * d[k];
             scale[i] += std::abs(m * m * coef * fk) * r;
+            if (laminar) {  // the reaction of forces.cl's laminar term on the fluid particle
+                const double lam = m * m * 4 * ph.kinematic_viscosity * fk * r2 / ((ri + rj) * (r2 + eta2));
+                for (int k = 0; k < 3; ++k) {
+                    const double vk = double(p.velocity[i][k]) - p.velocity[j][k];
+                    f[i][k] += lam * vk;
+                    scale[i] += std::abs(lam * vk);
+                }
+            }
         }
     }
 }
@@ -116,8 +125,12 @@ TEST_CASE("floating bodies: the fluid's force on each body particle and the fixe
             table.body_rest[4 * i + k] = b < 0 ? 0.0f : static_cast<float>(blk.p.position[i][k] - blk.centre[b][k]);
         table.body_rest[4 * i + 3] = static_cast<float>(b);
     }
+    for (const Viscosity model : {Viscosity::artificial, Viscosity::laminar})
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
+        CAPTURE(static_cast<int>(model));
+        s.physics.viscosity = model;
+        s.physics.kinematic_viscosity = 0.02;  // the laminar term as large as the pressure term here
         Grid grid(Box{s.domain.min, s.domain.max}, s.physics.support(), -1, {false, false, false}, 2);
         ParticleStore ps(*d, grid, blk.p.size());
         ps.upload(blk.p);

@@ -1,6 +1,7 @@
 // The force pass against a CPU implementation of the same formulas (kernels/forces.cl), every
-// device, every interaction form, each diffusion variant, viscosity on and off, both kernels; the
-// clusters form bitwise the fine form (the same terms summed in the same order).
+// device, every interaction form, each diffusion variant, artificial viscosity on and off and
+// laminar viscosity, both kernels; the clusters form bitwise the fine form (the same terms summed
+// in the same order).
 #include "device/physics.hpp"
 #include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
@@ -22,6 +23,37 @@ struct Expect {
     std::vector<double> scale;                 // sum of |terms|: the size round-off is relative to
 };
 
+// CPU sps.cl in double: per particle tau / rho^2 as (xx, xy, xz, yy, yz, zz); 0 for boundary particles.
+std::vector<std::array<double, 6>> cpu_sps(const Scene& s, const Particles& p) {
+    const auto& ph = s.physics;
+    const double h = ph.h(), m = ph.rho0 * ph.dp * ph.dp * ph.dp;
+    const double smag = 0.12 * ph.dp * 0.12 * ph.dp, blin = 2.0 / 3.0 * 0.0066 * ph.dp * ph.dp;
+    std::vector<std::array<double, 6>> tau(p.size(), {0, 0, 0, 0, 0, 0});
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.type[i] != ParticleType::fluid) continue;
+        double g[3][3] = {};  // g[a][b] = d v_a / d x_b
+        for (std::size_t j = 0; j < p.size(); ++j) {
+            double d[3], r2 = 0;
+            for (int k = 0; k < 3; ++k) {
+                d[k] = p.position[i][k] - p.position[j][k];
+                r2 += d[k] * d[k];
+            }
+            if (i == j || r2 >= 4 * h * h) continue;
+            const double f = test::reference_f(ph.kernel, h, std::sqrt(r2)), vol = m / p.density[j];
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    g[a][b] += vol * (double(p.velocity[j][a]) - p.velocity[i][a]) * f * d[b];
+        }
+        const double xy = g[0][1] + g[1][0], xz = g[0][2] + g[2][0], yz = g[1][2] + g[2][1];
+        const double s2 = 2 * (g[0][0] * g[0][0] + g[1][1] * g[1][1] + g[2][2] * g[2][2]) + xy * xy + xz * xz + yz * yz;
+        const double nu_t = smag * std::sqrt(s2), div = g[0][0] + g[1][1] + g[2][2];
+        const double iso = -(2.0 / 3.0 * nu_t * div + blin * s2), rho = p.density[i];
+        tau[i] = {(2 * nu_t * g[0][0] + iso) / rho, nu_t * xy / rho, nu_t * xz / rho,
+                  (2 * nu_t * g[1][1] + iso) / rho, nu_t * yz / rho, (2 * nu_t * g[2][2] + iso) / rho};
+    }
+    return tau;
+}
+
 // CPU forces.cl: every term written out separately, in double.
 Expect cpu_forces(const Scene& s, const Particles& p) {
     const auto& ph = s.physics;
@@ -31,6 +63,8 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
     auto pres = [&](double rho) { return B * (std::pow(rho / rho0, 7.0) - 1); };
     const bool mdbc = s.boundary_method == BoundaryMethod::mdbc;
     const std::size_t n = p.size();
+    const bool sps = ph.viscosity == Viscosity::laminar_sps;
+    const auto tau = sps ? cpu_sps(s, p) : std::vector<std::array<double, 6>>(n, {0, 0, 0, 0, 0, 0});
     Expect e;
     e.value.assign(n, {0, 0, 0, 0});
     e.scale.assign(n, 0);
@@ -67,12 +101,35 @@ Expect cpu_forces(const Scene& s, const Particles& p) {
             }
             if (fi) {
                 double coef = (pi + pres(rj)) / (ri * rj);                        // pressure
-                if (vd < 0)  // viscosity: alpha between fluid particles, alpha_wall with a boundary particle
+                if (vd < 0 && ph.viscosity == Viscosity::artificial)  // alpha between fluid, alpha_wall with boundary
                     coef += -(fj ? ph.alpha : ph.alpha_wall) * c0 * (h * vd / (r2 + eta2)) / (0.5 * (ri + rj));
                 ax += -m * coef * f * d[0];
                 ay += -m * coef * f * d[1];
                 az += -m * coef * f * d[2];
                 scale += std::abs(m * coef * f) * r;
+                if (ph.viscosity != Viscosity::artificial) {  // Morris (laminar): fluid and boundary neighbours alike
+                    const double lam = m * 4 * ph.kinematic_viscosity * f * r2 / ((ri + rj) * (r2 + eta2));
+                    ax += lam * v[0];
+                    ay += lam * v[1];
+                    az += lam * v[2];
+                    scale += std::abs(lam) * (std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]));
+                }
+                if (sps) {  // m (tau_i + tau_j) . grad W, grad W = F d
+                    const auto& a = tau[i];
+                    const auto& b = tau[j];
+                    const double t[3][3] = {{a[0] + b[0], a[1] + b[1], a[2] + b[2]},
+                                            {a[1] + b[1], a[3] + b[3], a[4] + b[4]},
+                                            {a[2] + b[2], a[4] + b[4], a[5] + b[5]}};
+                    double add[3] = {0, 0, 0};
+                    for (int k = 0; k < 3; ++k)
+                        for (int l = 0; l < 3; ++l) {
+                            add[k] += m * t[k][l] * f * d[l];
+                            scale += std::abs(m * t[k][l] * f * d[l]);
+                        }
+                    ax += add[0];
+                    ay += add[1];
+                    az += add[2];
+                }
             }
         }
         if (!fi && mdbc) drho = 0;  // mDBC: boundary densities come from ghost nodes, not continuity
@@ -135,6 +192,7 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         double hdp;  // 1.5: cells of 27 lattice sites; 2.2: of ~85, so cells take several 32-particle chunks
         int reach;   // the grid's reach (1: cells of a support; 2: half a support along a and b)
         bool mdbc;   // boundaries.method mdbc (boundary particles get no drho/dt)
+        Viscosity viscosity = Viscosity::artificial;
     };
     const Config configs[] = {{Diffusion::none, 0.0, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false},
                               {Diffusion::molteni_colagrossi, 0.5, KernelType::cubic_spline, DensityMode::continuity, 1.5, 1, false},
@@ -144,7 +202,12 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                               {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::summation, 2.2, 1, false},
                               {Diffusion::fourtakas, 0.5, KernelType::cubic_spline, DensityMode::continuity, 2.2, 2, false},
                               {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true},
-                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false}};
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::summation, 1.5, 2, false},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 1.5, 1, false, Viscosity::laminar},
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::cubic_spline, DensityMode::summation, 2.2, 2, false, Viscosity::laminar},
+                              {Diffusion::fourtakas, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true, Viscosity::laminar},
+                              {Diffusion::fourtakas, 0.1, KernelType::cubic_spline, DensityMode::summation, 1.5, 1, false, Viscosity::laminar_sps},
+                              {Diffusion::molteni_colagrossi, 0.1, KernelType::wendland_c2, DensityMode::continuity, 2.2, 2, true, Viscosity::laminar_sps}};
     for (auto* d : test::devices()) {
         CAPTURE(d->label());
         for (const auto& c : configs) {
@@ -164,6 +227,9 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                 s.physics.alpha = c.alpha;
                 s.physics.alpha_wall = 0.5 * c.alpha;
                 s.boundary_method = c.mdbc ? BoundaryMethod::mdbc : BoundaryMethod::dbc;
+                s.physics.viscosity = c.viscosity;
+                s.physics.kinematic_viscosity = 0.02;  // the laminar term as large as the pressure term here
+                CAPTURE(static_cast<int>(c.viscosity));
                 CAPTURE(c.mdbc);
                 s.physics.kernel = c.kernel;
                 s.physics.density = c.density;
@@ -211,6 +277,67 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
                     CHECK(std::memcmp(fine_rho.data(), rho.data(), rho.size() * sizeof(float)) == 0);
                 }
             }
+        }
+    }
+}
+TEST_CASE("laminar+sps: the stress and its force as plain C++ has them, on every device and form") {
+    // Densities at rho0 (no pressure) and nu = 0 (no laminar term): the accelerations are the SPS
+    // stress's alone, each particle's tau / rho^2 read back too; velocities of 10 m/s over dp =
+    // 0.01 m make the eddy viscosity (0.12 dp)^2 |S| some 1e-3 m^2/s.
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        for (const Interaction form : interaction_forms()) {
+            CAPTURE(std::string(interaction_name(form)));
+            Scene s;
+            s.physics.dp = 0.01;
+            s.physics.hdp = 1.5;
+            s.physics.c0 = 15.0;
+            s.physics.gravity = {0, 0, 0};
+            s.physics.viscosity = Viscosity::laminar_sps;
+            s.physics.kinematic_viscosity = 0;
+            s.domain.min = {0, 0, 0};
+            s.domain.max = {0.3, 0.3, 0.3};
+            auto gen = test::rng(3400);
+            Particles in = random_block(gen, s.physics.dp);
+            for (std::size_t i = 0; i < in.size(); ++i) {
+                in.density[i] = static_cast<float>(s.physics.rho0);
+                for (auto& v : in.velocity[i]) v *= 10.0f;
+            }
+            Grid grid(Box{s.domain.min, s.domain.max}, s.physics.support(), -1, {false, false, false}, 1);
+            ParticleStore ps(*d, grid, in.size());
+            ps.upload(in);
+            CellPipeline cells(*d, grid);
+            Physics phys(*d, grid, s, form);
+            cells.run(ps);
+            const Particles before = ps.download();
+            d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison
+            phys.forces(ps, cells, ps.accel);
+            const std::size_t n = before.size();
+            std::vector<float> acc(4 * n), tau(8 * n);
+            d->read(ps.accel, acc.data(), acc.size());
+            d->read(phys.tau(), tau.data(), tau.size());
+            const auto want_tau = cpu_sps(s, before);
+            const Expect e = cpu_forces(s, before);
+            std::size_t bad = 0;
+            double largest = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                double tscale = 1e-12;
+                for (int k = 0; k < 6; ++k) tscale = std::max(tscale, std::abs(want_tau[i][k]));
+                const float got_tau[6] = {tau[8 * i], tau[8 * i + 1], tau[8 * i + 2], tau[8 * i + 3], tau[8 * i + 4], tau[8 * i + 5]};
+                for (int k = 0; k < 6; ++k)
+                    if (!(std::abs(got_tau[k] - want_tau[i][k]) <= 1e-4 * tscale + 1e-12) && bad++ < 8)
+                        FAIL_CHECK("particle " << before.id[i] << " tau " << k << ": device " << got_tau[k] << ", CPU "
+                                               << want_tau[i][k]);
+                for (int k = 0; k < 3; ++k) {
+                    const double got = acc[4 * i + k], want = e.value[i][k];
+                    largest = std::max(largest, std::abs(want));
+                    if (!(std::abs(got - want) <= 2e-5 * e.scale[i] + 1e-6) && bad++ < 8)
+                        FAIL_CHECK("particle " << before.id[i] << " component " << k << ": device " << got << ", CPU "
+                                               << want << " (scale " << e.scale[i] << ")");
+                }
+            }
+            CHECK(bad == 0);
+            CHECK(largest > 1.0);  // the stress does push: m/s^2
         }
     }
 }

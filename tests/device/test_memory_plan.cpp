@@ -152,6 +152,19 @@ TEST_CASE("the plan predicts a moving solid's motion table, buffer by buffer") {
     }
 }
 
+TEST_CASE("the plan predicts laminar+sps's stress, buffer by buffer") {
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        Scene s = tiny_dam_break();
+        s.physics.viscosity = Viscosity::laminar_sps;
+        Options o;
+        o.synchronous = true;
+        check_prediction(s, spec_of(d), o, 3, false, true);
+        o.synchronous = false;
+        check_prediction(s, spec_of(d), o);
+    }
+}
+
 TEST_CASE("the plan predicts a floating body's buffers, buffer by buffer") {
     for (auto* d : test::devices()) {
         CAPTURE(d->label());

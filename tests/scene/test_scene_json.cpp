@@ -13,6 +13,7 @@ const char* full_scene = R"({
   "name": "everything",
   "physics": {"dp": 0.02, "hdp": 1.5, "kernel": "cubic", "density": "summation", "diffusion": "molteni",
               "delta": 0.05, "rho0": 998.2, "gamma": 7, "coefsound": 15, "c0": 30, "alpha": 0.05,
+              "viscosity": "laminar", "kinematic_viscosity": 2.5e-5,
               "gravity": [0, -1, -9.8], "cfl": 0.25, "density_min": 0.8, "density_max": 1.2},
   "domain": {"min": [-0.1, -0.1, -0.1], "max": [2.1, 0.5, 1.1], "periodic": [false, true, false], "split_axis": "x"},
   "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.4, 0.5], "velocity": [1, 0, 0], "surface": 0.6},
@@ -45,6 +46,8 @@ TEST_CASE("every key of a scene file reaches the Scene") {
     CHECK(p.coefsound == 15);
     CHECK(p.c0 == 30);
     CHECK(p.alpha == 0.05);
+    CHECK(p.viscosity == clsph::Viscosity::laminar);
+    CHECK(p.kinematic_viscosity == 2.5e-5);
     CHECK(p.gravity == clsph::Vec3{0, -1, -9.8});
     CHECK(p.cfl == 0.25);
     CHECK(p.density_min == 0.8);
@@ -84,6 +87,8 @@ TEST_CASE("omitted keys take the documented defaults") {
     CHECK(s.physics.hdp == d.hdp);
     CHECK(s.physics.kernel == clsph::KernelType::wendland_c2);
     CHECK(s.physics.diffusion == clsph::Diffusion::fourtakas);
+    CHECK(s.physics.viscosity == clsph::Viscosity::artificial);
+    CHECK(s.physics.kinematic_viscosity == d.kinematic_viscosity);
     CHECK(s.physics.gravity == d.gravity);
     CHECK(s.domain.split_axis == -1);
     CHECK(s.walls.empty());
@@ -97,6 +102,8 @@ TEST_CASE("to_json writes every default and reads back to the same scene") {
     const clsph::Scene back = clsph::Scene::from_json_text(text, "resolved.json");
     CHECK(back.to_json() == text);
     CHECK(back.physics.hdp == s.physics.hdp);
+    CHECK(back.physics.viscosity == clsph::Viscosity::laminar);
+    CHECK(back.physics.kinematic_viscosity == s.physics.kinematic_viscosity);
     CHECK(back.fluids[0].surface == s.fluids[0].surface);
     CHECK(back.walls[0].faces == s.walls[0].faces);
     CHECK(back.probes[0].normal == s.probes[0].normal);

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,10 @@ enum class BoundaryMethod { dbc, mdbc };
 // Time integration: Leap-frog (kick-drift-kick, one force pass per step) or Symplectic (position
 // Verlet predictor-corrector, two force passes per step; docs/scenes.md).
 enum class Integrator { leapfrog, symplectic };
+// Viscosity (docs/scenes.md): Monaghan's artificial viscosity (alpha, alpha_wall); Morris's laminar
+// viscosity with a kinematic viscosity nu; laminar plus the Smagorinsky sub-particle-scale eddy
+// viscosity (laminar_sps).
+enum class Viscosity { artificial, laminar, laminar_sps };
 
 struct PhysicsParams {
     double dp = 0.01;                 // particle spacing (m)
@@ -37,6 +42,8 @@ struct PhysicsParams {
     double c0 = 0.0;                  // speed of sound (m/s); 0: from coefsound
     double alpha = 0.02;              // Monaghan artificial viscosity, fluid-fluid
     double alpha_wall = 0.0;          // the same between fluid and boundary particles (wall friction)
+    Viscosity viscosity = Viscosity::artificial;
+    double kinematic_viscosity = 1e-6;  // nu (m^2/s) of the laminar models; water at 20 C
     Vec3 gravity{0.0, 0.0, -9.81};    // m/s^2
     double cfl = 0.2;                 // Courant number of the adaptive time step
     Integrator integrator = Integrator::leapfrog;
@@ -45,6 +52,12 @@ struct PhysicsParams {
 
     double h() const { return hdp * dp; }
     double support() const { return 2.0 * h(); }
+    // The laminar models' stability limit on the time step, dt <= 0.125 h^2 / nu (Morris et al.
+    // 1997); infinity for artificial viscosity or nu = 0.
+    double viscous_dt() const {
+        if (viscosity == Viscosity::artificial || !(kinematic_viscosity > 0)) return std::numeric_limits<double>::infinity();
+        return 0.125 * h() * h() / kinematic_viscosity;
+    }
 };
 
 struct Domain {

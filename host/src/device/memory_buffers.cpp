@@ -89,6 +89,7 @@ struct Context {
     std::size_t slabs, particles, rows, probe_points;
     bool mdbc, ahead, any_boundary;
     bool clusters;  // the clusters interaction form: its lists (cluster_list.cpp)
+    bool sps;       // physics.viscosity laminar+sps: the stress (physics_sps.cpp), two halo columns
     int reach;
     std::uint32_t max_boundary_id;
     std::size_t motion_segments;  // of every moving solid and a row per floating body (0: none)
@@ -139,6 +140,7 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
         if (!sz::cluster_boxes_borrowed(ids, cap * f4)) add("cluster boxes", sz::cluster_box_bytes(ids));
         add("cluster-pair masks", sz::cluster_mask_bytes(ids, c.rows, c.reach));
     }
+    if (c.sps) add("SPS stress", cap * 2 * f4);  // physics_sps.cpp sps_stress(): for the store's capacity
     // physics.cpp's constructor.
     add("kick reductions", sz::kick_groups(x.device.compute_units) * sz::kKickFloats * sizeof(float), false);
     add("failure flag", u32, false);
@@ -263,6 +265,7 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                     census.any_boundary,
                     (options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction) ==
                         Interaction::clusters,
+                    scene.physics.viscosity == Viscosity::laminar_sps,
                     grid_of(scene).reach(),
                     census.max_boundary_id,
                     [&] {
@@ -287,6 +290,10 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
         plan.notes.push_back("several devices with mDBC: the engine keeps cuts away from columns whose boundary "
                              "particles' ghost nodes lie beyond the halo; the split here does not, so a cut may move "
                              "by a column or two");
+    }
+    if (D > 1 && c.sps) {
+        plan.notes.push_back("several devices with laminar+sps: the exchange sends two halo columns, not the one the "
+                             "split here counts, so each store holds a column more of ghosts either side");
     }
     plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
                          "when the fluid spreads over more cells");

@@ -37,6 +37,9 @@ SphParams make_sph_params(const Scene& scene) {
     sp.gz = static_cast<float>(ph.gravity[2]);
     sp.rho_min = static_cast<float>(ph.density_min * ph.rho0);
     sp.rho_max = static_cast<float>(ph.density_max * ph.rho0);
+    sp.visc_laminar = static_cast<float>(4.0 * ph.kinematic_viscosity);
+    sp.sps_smag = static_cast<float>(0.12 * ph.dp * 0.12 * ph.dp);
+    sp.sps_blin = static_cast<float>(2.0 / 3.0 * 0.0066 * ph.dp * ph.dp);
     return sp;
 }
 
@@ -71,6 +74,9 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     std::string interaction = opts + " -DCLSPH_DIFFUSION=" + std::to_string(diffusion);
     if (summation_) interaction += " -DCLSPH_SUMMATION";
     if (mdbc_) interaction += " -DCLSPH_MDBC";
+    if (scene.physics.viscosity != Viscosity::artificial)
+        viscosity_options_ = scene.physics.viscosity == Viscosity::laminar ? " -DCLSPH_VISCOSITY=1" : " -DCLSPH_VISCOSITY=2";
+    interaction += viscosity_options_;
     switch (form_) {
     case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
@@ -82,6 +88,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     }
     if (*device.quirks().interaction_options) interaction += std::string(" ") + device.quirks().interaction_options;
     forces_k_ = device.kernel("forces.cl", "forces", interaction);
+    if (scene.physics.viscosity == Viscosity::laminar_sps) build_sps(opts);
     if (summation_) density_k_ = device.kernel("density.cl", "summation_density", interaction);
     const std::string integ = opts + " -DWG=" + std::to_string(wg_);
     commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
@@ -101,6 +108,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     halt_ = device.alloc(sizeof(cl_uint), "halt flag");
     device.fill(halt_, cl_uint{0}, 1);
     cfl_ = scene.physics.cfl;
+    dt_viscous_ = scene.physics.viscous_dt();
     fixed_dt_ = scene.run.fixed_dt;
     const std::string ext = device.cl_device().getInfo<CL_DEVICE_EXTENSIONS>();
     has_clock_ = ext.find("cl_khr_fp64") != std::string::npos;
@@ -161,10 +169,12 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         commit_k_.setArg(3, ps.velrho.get());
         device_.launch("sph.commit_density", commit_k_, n, wg_);
     }
+    if (sps_) sps_stress(ps, cells);  // with the step's final densities
     const cl_uint a = set_loop_args(forces_k_, ps, cells, g, sp_, per_cell, clusters_.get());
     forces_k_.setArg(a, ps.velrho.get());
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());
+    if (sps_) forces_k_.setArg(a + 3, tau_.get());
     launch("sph.forces", forces_k_);
     if (mdbc_) boundary_densities(ps, cells);
 }
@@ -285,6 +295,7 @@ void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cell
     end_k_.setArg(i++, static_cast<double>(sp_.c0));
     end_k_.setArg(i++, fixed_dt_);
     end_k_.setArg(i++, dt_floor_);
+    end_k_.setArg(i++, dt_viscous_);
     for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{
              &partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(), &clock_, &dt_f_,
              &halt_, &record_})

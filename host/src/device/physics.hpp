@@ -69,6 +69,11 @@ public:
     void set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id);
     // The mDBC pass alone (forces() runs it).
     void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
+    // laminar+sps (kernels/sps.cl): every held particle's sub-particle-scale stress into tau()
+    // (forces() runs it first; ghosts of the inner halo column get their owner's bits).
+    bool sps() const { return sps_; }
+    void sps_stress(ParticleStore& ps, const CellPipeline& cells);
+    const cl_rt::Buffer& tau() const { return tau_; }  // 2 float4 a particle
     void kick_drift(ParticleStore& ps, double dt);
     // Prescribed motion (kernels/motion.cl): the table uploaded once (every slab holds all of it,
     // by boundary id); then after each drift the owned boundary particles of moving solids put at
@@ -135,6 +140,11 @@ private:
     const Grid& grid_;
     SphParams sp_{};
     std::string point_options_;
+    std::string viscosity_options_;  // -DCLSPH_VISCOSITY=... for the laminar models (forces.cl, floating.cl)
+    bool sps_ = false;
+    void build_sps(const std::string& options);
+    cl::Kernel sps_k_;
+    cl_rt::Buffer tau_;
     Interaction form_;
     bool summation_;
     bool mdbc_;
@@ -170,7 +180,7 @@ private:
     void write_dt(double dt);  // the synchronous path: dt_f from the host
     float dt_written_ = 0;
     bool dt_written_valid_ = false;
-    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0;
+    double cfl_ = 0, fixed_dt_ = 0, dt_floor_ = 0, dt_viscous_ = 0;
     cl_rt::PinnedArray<double> clock_host_;
     // Read targets of enqueue_kick, in pinned memory (the host waits for them every step).
     cl_rt::PinnedArray<float> partials_host_;

@@ -17,7 +17,7 @@ void Physics::set_floating(const FloatingTable& table) {
     floating_row_ = table.first_row;
     floating_ids_ = table.ids();
     // The fine scheme always (it skips every particle but the bodies'); the sums in work-groups of wg_.
-    const std::string opts = point_options_ + " -DWG=" + std::to_string(wg_);
+    const std::string opts = point_options_ + viscosity_options_ + " -DWG=" + std::to_string(wg_);
     floating_k_ = device_.kernel("floating.cl", "floating_forces", opts);
     floating_sums_k_ = device_.kernel("floating.cl", "floating_sums", opts);
     floating_rest_ = device_.alloc(table.body_rest.size() * sizeof(float), "floating body offsets");

@@ -24,7 +24,8 @@ std::vector<Need> Partition::needs(const std::vector<Slab>& slabs) const {
     for (std::size_t e = 0; e < slabs.size(); ++e) {
         const Slab& s = slabs[e];
         if (s.empty()) continue;
-        need[e] = {s.first_col > 0 ? s.first_col - 1 : 0, s.first_col, s.end_col, std::min(s.end_col + 1, columns())};
+        need[e] = {s.first_col > halo_ ? s.first_col - halo_ : 0, s.first_col, s.end_col,
+                   std::min(s.end_col + halo_, columns())};
     }
     return need;
 }

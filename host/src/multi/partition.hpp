@@ -17,7 +17,8 @@
 namespace clsph::multi {
 
 // The columns a device needs: [lo, hi) = its own [first, end) and one column either side (the
-// support radius is one column). An empty device needs nothing.
+// support radius is one column), or two with laminar+sps (the stress of a ghost one column out
+// is computed where it is held, from its own neighbours). An empty device needs nothing.
 struct Need {
     std::size_t lo = 0, first = 0, end = 0, hi = 0;
     bool empty() const { return hi <= lo; }
@@ -41,6 +42,7 @@ public:
     device::KeyRange keys_of(const Need& need) const;
 
     std::vector<Need> needs(const std::vector<Slab>& slabs) const;
+    void set_halo(std::size_t columns) { halo_ = columns; }  // 1, or 2 with laminar+sps
     std::size_t owner_of(std::uint32_t key, const std::vector<Slab>& slabs) const;
     static std::vector<std::size_t> cuts(const std::vector<Slab>& slabs);
     // Checks `cuts` (devices + 1 non-decreasing columns from 0 to the column count) and sets them;
@@ -67,6 +69,7 @@ private:
     const device::Grid& grid_;
     std::vector<std::size_t> boundary_per_column_;
     std::vector<char> cut_allowed_;  // empty: anywhere
+    std::size_t halo_ = 1;
 };
 
 }  // namespace clsph::multi

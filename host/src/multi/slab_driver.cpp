@@ -26,6 +26,7 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
 void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* host,
                         const scene::LatticePlan* plan) {
     const device::Grid& grid = partition_.grid();
+    if (scene.physics.viscosity == Viscosity::laminar_sps) partition_.set_halo(2);  // kernels/sps.cl
     // Across ranks: the slabs of rank 0 first, then rank 1's, ...; only this rank's have devices.
     std::size_t first_here = 0;
     std::size_t D = devices.size();

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 
 PhysicsParams read_physics(const Json& v) {
     Fields f(v, "physics",
-             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha", "alpha_wall", "integrator",
+             {"dp", "hdp", "kernel", "density", "diffusion", "delta", "rho0", "gamma", "coefsound", "c0", "alpha", "alpha_wall", "viscosity",
+              "kinematic_viscosity", "integrator",
               "gravity", "cfl", "density_min", "density_max"});
     PhysicsParams p;
     p.dp = read_number(f.require("dp"), "physics.dp");
@@ -40,6 +41,11 @@ PhysicsParams read_physics(const Json& v) {
     p.c0 = f.number("c0", p.c0);
     p.alpha = f.number("alpha", p.alpha);
     p.alpha_wall = f.number("alpha_wall", p.alpha_wall);
+    p.viscosity = f.choice("viscosity", p.viscosity,
+                           {{"artificial", Viscosity::artificial},
+                            {"laminar", Viscosity::laminar},
+                            {"laminar+sps", Viscosity::laminar_sps}});
+    p.kinematic_viscosity = f.number("kinematic_viscosity", p.kinematic_viscosity);
     p.integrator = f.choice("integrator", p.integrator,
                             {{"leapfrog", Integrator::leapfrog}, {"symplectic", Integrator::symplectic}});
     p.gravity = f.vec3("gravity", p.gravity);

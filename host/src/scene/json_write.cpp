@@ -102,6 +102,10 @@ Json physics(const PhysicsParams& p) {
     j["c0"] = p.c0;
     j["alpha"] = p.alpha;
     j["alpha_wall"] = p.alpha_wall;
+    j["viscosity"] = p.viscosity == Viscosity::laminar       ? "laminar"
+                     : p.viscosity == Viscosity::laminar_sps ? "laminar+sps"
+                                                             : "artificial";
+    j["kinematic_viscosity"] = p.kinematic_viscosity;
     j["integrator"] = p.integrator == Integrator::symplectic ? "symplectic" : "leapfrog";
     j["gravity"] = vec(p.gravity);
     j["cfl"] = p.cfl;

@@ -2,6 +2,7 @@
 
 #include "shared.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -42,7 +43,9 @@ void Failures::bad_particle(std::uint32_t id, const float vr[4], double dt, cons
 void Failures::check_dt_collapse() const {
     if (scene_.run.fixed_dt > 0) return;
     const auto& sp = driver_.params();
-    const double acoustic = scene_.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0);
+    // With laminar viscosity the largest step may be the viscous limit, not the acoustic one.
+    const double acoustic = std::min(scene_.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0),
+                                     scene_.physics.viscous_dt());
     if (state_.dt_next >= options_.dt_collapse * acoustic) return;
     const auto& info = state_.info;
     std::ostringstream o;

@@ -45,15 +45,15 @@ struct RunState {
     }
 };
 
-// Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)), or the
-// scene's fixed step. kernels/step_clock.cl does the same in double on the device (the step ahead).
+// Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)), and
+// with laminar viscosity at most 0.125 h^2 / nu; or the scene's fixed step. kernels/step_clock.cl does the same in double on the device (the step ahead).
 inline double next_dt(const Scene& scene, const SphParams& sp, const device::KickResult& k) {
     if (scene.run.fixed_dt > 0) return scene.run.fixed_dt;
     const double h = sp.h;
     const double amax = std::sqrt(k.max_accel2), vmax = std::sqrt(k.max_speed2);
     const double dt_force = amax > 0 ? std::sqrt(h / amax) : std::numeric_limits<double>::infinity();
     const double dt_sound = h / (sp.c0 + vmax);
-    return scene.physics.cfl * std::min(dt_force, dt_sound);
+    return std::min(scene.physics.cfl * std::min(dt_force, dt_sound), scene.physics.viscous_dt());
 }
 
 }  // namespace clsph::simulation

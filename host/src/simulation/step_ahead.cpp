@@ -25,7 +25,8 @@ void StepAhead::start() {
     // dt = cfl min(sqrt(h/|a|), h/(c0 + |v|)) <= cfl h/c0: how far the steps in flight can go at most.
     const auto& sp = driver_.params();
     dt_max_ = scene_.run.fixed_dt > 0 ? scene_.run.fixed_dt
-                                    : scene_.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0);
+                                    : std::min(scene_.physics.cfl * static_cast<double>(sp.h) / static_cast<double>(sp.c0),
+                                               scene_.physics.viscous_dt());
     if (scene_.run.fixed_dt <= 0) driver_.slabs()[0].physics->set_dt_floor(options_.dt_collapse * dt_max_);
 }
 
