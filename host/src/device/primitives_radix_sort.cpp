@@ -15,6 +15,9 @@ namespace {
 
 using sizing::sort_scatter_local_bytes;
 
+// The most tiles whose digit counts the scatter adds up itself (RadixSort::Config::fold_scan).
+constexpr std::size_t kFoldedGroups = 128;
+
 }  // namespace
 
 struct RadixSort::Impl {
@@ -26,7 +29,7 @@ struct RadixSort::Impl {
     cl_rt::Buffer keys_alt, values_alt, counts;
 
     Impl(cl_rt::Device& device, Config c)
-        : dev(device), config(std::move(c)), scan(device, Scan::Config{0, 0, config.name + ".scan"}) {
+        : dev(device), config(std::move(c)), scan(device, Scan::Config{0, 0, config.name + ".scan", config.fold_scan}) {
         if (config.digit_bits < 1 || config.digit_bits > 8)
             throw Error("radix sort: digit_bits must be 1..8, not " + std::to_string(config.digit_bits));
         const std::size_t wg0 = config.work_group ? config.work_group : dev.work_group_size(256);
@@ -86,10 +89,13 @@ struct RadixSort::Impl {
         const std::size_t entries = (std::size_t{1} << bits) * groups;
         set_args(histogram, keys.buffer->get(), keys.at, count, cl_uint{shift}, bits, as_uint(groups), counts.get());
         dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
-        scan.exclusive(counts, counts, entries);
+        // Few tiles: the scatter's work-groups add up the digit counts before their own instead of
+        // a scan of the table (each reads the whole table: groups^2 digits in all, hence the bound).
+        const bool fold = config.fold_scan && groups <= kFoldedGroups;
+        if (!fold) scan.exclusive(counts, counts, entries);
         set_args(scatter, keys.buffer->get(), keys.at, values.buffer->get(), values.at, keys_out.buffer->get(),
                  keys_out.at, values_out.buffer->get(), values_out.at, count, cl_uint{shift}, bits, as_uint(groups),
-                 counts.get());
+                 counts.get(), cl_uint{fold ? 1u : 0u});
         dev.launch(config.name + ".scatter", scatter, groups * wg, wg);
     }
 
