@@ -73,9 +73,12 @@ __kernel void scan_reduce(__global const uint* in, const uint n, const uint flag
 // == 1 it is tile_offsets[tile] (the tile sums, scanned); with has_offsets == 2 tile_offsets holds
 // the tile sums as scan_reduce left them and each work-group adds up those before its own (a
 // launch fewer than scanning them: integer sums, so the same offsets in any order).
-inline uint offset_of_tile(__global const uint* sums, const uint tile, __local uint* scratch) {
+// Every work-item of every scan_tiles calls it (0 unless has_offsets == 2): its barriers inside a
+// branch corrupted pocl's basic device (see radix_sort.cl, digit_bases).
+inline uint offset_of_tile(__global const uint* sums, const uint tile, const uint has_offsets, __local uint* scratch) {
     uint part = 0;
-    for (uint t = get_local_id(0); t < tile; t += WG) part += sums[t];
+    const uint before = has_offsets == 2u ? tile : 0u;
+    for (uint t = get_local_id(0); t < before; t += WG) part += sums[t];
     uint total;
     (void)work_group_exclusive_scan(part, scratch, &total);
     return total;
@@ -129,9 +132,8 @@ __kernel void scan_tiles(__global const uint* in, __global uint* out, const uint
     uint sum = 0;
     for (uint j = 0; j < ITEMS; ++j) sum += x[j];
     uint total;
-    const uint offset = has_offsets == 2u ? offset_of_tile(tile_offsets, tile, scratch)
-                        : has_offsets      ? tile_offsets[tile]
-                                           : 0u;
+    const uint folded = offset_of_tile(tile_offsets, tile, has_offsets, scratch);
+    const uint offset = has_offsets == 2u ? folded : has_offsets ? tile_offsets[tile] : 0u;
     uint running = offset + work_group_exclusive_scan(sum, scratch, &total);
     // Exclusive values in place of the inputs.
     for (uint j = 0; j < ITEMS; ++j) {

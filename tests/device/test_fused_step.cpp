@@ -1,9 +1,9 @@
 // The fused step (issue 30, item 4: fewer launches a step) against the step before fusion
 // (testing::Seams::unfused: a launch per stage, as before): bitwise the same particles at every
 // frame and bitwise the same figures every step (time, dt, energy, speed, counts) and probes, on
-// one device stepping ahead (the first kick, drift, settle and keys in one launch; the flags of
-// the cell compaction counted by its scan; the scans' and the sort's tile sums added up where they
-// are used) and on three devices (the synchronous slab path). Each run also says, from its
+// one device stepping ahead (the first kick, drift, settle, keys and the sort's first digit counts
+// in one launch; the flags of the cell compaction counted by its scan; the scans' and the sort's
+// tile sums added up where they are used) and on three devices (the synchronous slab path). Each run also says, from its
 // profile, that it took the path it is named for, so the comparison cannot pass by both runs
 // taking the same one. CTest runs this suite with POCL_DEVICES="pthread pthread pthread".
 #include "clsph/simulation.hpp"
@@ -140,6 +140,8 @@ TEST_CASE("one device stepping ahead: the fused step is bitwise the unfused one 
     CHECK(calls(fused, "sph.kick_drift") == 0);
     CHECK(calls(unfused, "cells.drift_keys") == 0);
     CHECK(calls(unfused, "sph.kick_drift") >= unfused.steps.size());
+    // The sort's first histogram in that launch too.
+    CHECK(calls(fused, "sort.histogram") + fused.steps.size() <= calls(unfused, "sort.histogram"));
     // More than one tile: the folded sums were taken (no scan of the sort's digit counts).
     CHECK(calls(fused, "sort.scan.tiles") == 0);
     CHECK(calls(unfused, "sort.scan.tiles") > 0);

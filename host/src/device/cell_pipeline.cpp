@@ -98,10 +98,38 @@ void CellPipeline::enqueue_sort_keys(ParticleStore& ps, const SortSelection& s) 
     sort_pairs(sort_, ps.keys, ps.vals, s.n, ps);
 }
 
+bool CellPipeline::drift_histogram_usable() {
+    if (drift_histogram_checked_) return drift_histogram_k_() != nullptr;
+    drift_histogram_checked_ = true;
+    cl::Kernel k = device_.kernel("drift_histogram.cl", "drift_keys_histogram",
+                                  grid_.kernel_options() + " " + sort_.tile_options());
+    // It runs in the sort's work-groups: where the device cannot (more registers than the sort's
+    // kernels), the drift and keys take their own launch and the sort its histogram.
+    const std::size_t limit = cl_rt::guarded("querying a kernel's work-group size", device_.label(), [&] {
+        return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device_.cl_device());
+    });
+    if (limit >= sort_.config().work_group || device_.quirks().kernel_work_group_size_understated)
+        drift_histogram_k_ = k;
+    return drift_histogram_k_() != nullptr;
+}
+
 void CellPipeline::enqueue_drift_sort_keys(ParticleStore& ps, KeyRange keep, const Drift& drift) {
     const std::size_t n = ps.ranges.active();
     ensure_counters();
     if (n == 0) return;
+    const unsigned bits = grid_.key_bits();
+    if (RadixSort::borrowed_elements(n) * sizeof(cl_uint) <= ps.scratch.bytes() && drift_histogram_usable()) {
+        // With the sort's first histogram (kernels/drift_histogram.cl): a launch fewer.
+        const std::size_t tile = sort_.tile(), groups = (n + tile - 1) / tile;
+        const cl_rt::Buffer& counts = sort_.first_counts(n);
+        set_args(drift_histogram_k_, n, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi,
+                 grid_.params(), drift.dt, drift.rho0, ps.pos, ps.velrho, ps.accel, ps.id, drift.halt, counters_,
+                 ps.keys, ps.vals, cl_uint{sort_.first_bits(bits)}, groups, counts);
+        const std::size_t wg = sort_.config().work_group;
+        device_.launch("cells.drift_keys", drift_histogram_k_, groups * wg, wg);
+        sort_.sort_through_counted(ps.keys, ps.vals, n, bits, ps.scratch);
+        return;
+    }
     set_args(drift_keys_k_, n, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(),
              drift.dt, drift.rho0, ps.pos, ps.velrho, ps.accel, ps.id, drift.halt, counters_, ps.keys, ps.vals);
     device_.launch("cells.drift_keys", drift_keys_k_, n, wg_);

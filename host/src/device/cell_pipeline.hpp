@@ -155,6 +155,9 @@ public:
 private:
     void reserve_cells(std::size_t k);
     void ensure_counters();
+    // Builds drift_histogram.cl's kernel the first time; whether it runs in the sort's work-groups.
+    bool drift_histogram_usable();
+    bool drift_histogram_checked_ = false;
     // The compaction's scan over the sorted keys of [0, n) into vals (n + 1 entries).
     void scan_cell_starts(ParticleStore& ps, std::size_t n);
     // Sorts n (key, value) pairs on the grid's key bits, ping-ponging through the store's reorder scratch.
@@ -171,7 +174,7 @@ private:
     bool counted_on_device_ = false;
     double cell_headroom_ = 0.25;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
-    cl::Kernel drift_keys_k_;
+    cl::Kernel drift_keys_k_, drift_histogram_k_;  // the latter built on first use
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;

@@ -76,6 +76,16 @@ public:
     // never swapped: after an odd number of passes the pairs are copied back into keys and values.
     void sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
                       const cl_rt::Buffer& scratch);
+    // The first pass's histogram made by the caller's own kernel (a launch fewer: the step ahead's
+    // keys, kernels/drift_histogram.cl): built with tile_options(), in work-groups of
+    // config().work_group over tiles of tile() pairs, it writes for tile g and each digit d of the
+    // keys' lowest first_bits(key_bits) bits their count to first_counts(n)[d * groups + g];
+    // sort_through_counted() then sorts as sort_through() does, without that histogram.
+    std::string tile_options() const;
+    unsigned first_bits(unsigned key_bits) const;
+    const cl_rt::Buffer& first_counts(std::size_t n);
+    void sort_through_counted(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                              const cl_rt::Buffer& scratch);
     static std::size_t borrowed_elements(std::size_t n);  // uint a sort_through() of n pairs borrows
     std::size_t scratch_bytes() const;
     std::size_t tile() const;                      // pairs per work-group, as resolved for this device
