@@ -1,32 +1,6 @@
 // The cell pipeline of one device: cell keys, reorder, compaction of non-empty cells, and each
 // cell's 9 neighbour rows as particle ranges. See host/src/device/cell_pipeline.cpp for the order.
-#include "grid.h"
-
-// Moves one axis' offset back into [-cell/2, cell/2] by changing the cell; returns false when the
-// particle leaves the domain along that axis. Idempotent: an offset already inside (faces
-// included) is left alone, so settling twice gives what settling once does. (With the rounded
-// quotient alone, an offset at +cell/2 moved to the next cell, landed a rounding below -cell/2
-// and moved back the next time: one device and several, which settle a different number of
-// times, then disagreed in the last bit.) After a move by one cell the new offset is exact
-// (Sterbenz), so it lies inside.
-inline bool settle_axis(float* offset, uint* cell, const float cell_size, const uint count, const float extent,
-                        const uint periodic) {
-    const float half_cell = 0.5f * cell_size;
-    const float shift = (*offset > half_cell || *offset < -half_cell) ? floor(*offset / cell_size + 0.5f) : 0.0f;
-    int c = (int)(*cell) + (int)shift;
-    *offset -= shift * cell_size;
-    if (periodic) {
-        c %= (int)count;
-        if (c < 0) c += (int)count;
-    } else {
-        if (c < 0 || c >= (int)count) return false;
-        // The last cell may stick out past the domain's max face: that part is outside too.
-        if (((float)c + 0.5f) * cell_size + *offset > extent) return false;
-        if (((float)c + 0.5f) * cell_size + *offset < 0.0f) return false;
-    }
-    *cell = (uint)c;
-    return true;
-}
+#include "settle.h"
 
 // Each particle's offset is brought back inside its cell (the drift may have carried it out), its
 // key recomputed and written to pos.w and keys[]; vals[] = i for the sort. Outside the domain:
@@ -73,36 +47,30 @@ __kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end
 // [key_lo, key_hi) (the columns this device keeps).
 __kernel void settle_owned(const uint first, const uint end, const uint key_lo, const uint key_hi, const GridParams g,
                            __global float4* pos, __global uint* counters) {
-    // Counted per work-group in local memory, then one global atomic per group and counter: one
-    // global counter hit by every particle serialised the kernel (0.34 ms for 11.7 M particles on
-    // an H200, 4.5x the cost of cells.keys).
     __local uint local_counts[3];
-    const uint lid = get_local_id(0);
-    if (lid < 3u) local_counts[lid] = 0u;
-    barrier(CLK_LOCAL_MEM_FENCE);
+    begin_counts(local_counts);
     const uint i = first + (uint)get_global_id(0);
-    if (i < end) {
-        float4 p = pos[i];
-        const uint old = pos_key(p);
-        if (old != g.invalid_key) {
-            uint s = key_s(g, old), a = key_a(g, old), b = key_b(g, old);
-            float os = S_OF(p), oa = A_OF(p), ob = B_OF(p);
-            const bool inside = settle_axis(&os, &s, g.cell_s, g.n_s, g.ext_s, 0u) &&
-                                settle_axis(&oa, &a, g.cell_a, g.n_a, g.ext_a, g.periodic_a) &&
-                                settle_axis(&ob, &b, g.cell_b, g.n_b, g.ext_b, 0u);
-            const uint key = inside ? make_key(g, s, a, b) : g.invalid_key;
-            S_OF(p) = os;
-            A_OF(p) = oa;
-            B_OF(p) = ob;
-            p.w = as_float(key);
-            pos[i] = p;
-            if (!inside) atomic_inc(&local_counts[0]);
-            else if (abs((int)s - (int)key_s(g, old)) > 1) atomic_inc(&local_counts[1]);
-            if (inside && key >= key_lo && key < key_hi) atomic_inc(&local_counts[2]);
-        }
+    if (i < end) (void)settle_particle(i, key_lo, key_hi, g, pos, local_counts);
+    end_counts(local_counts, counters);
+}
+
+// The step ahead on one device, three launches in one (issue 30): drift_settle_key (settle.h) for
+// each particle of [0, n). Where the sort can borrow the reorder scratch, drift_histogram.cl's
+// kernel does this with the sort's first digit counts besides.
+__kernel void drift_settle_keys(const uint n, const uint first, const uint end, const uint key_lo, const uint key_hi,
+                                const GridParams g, __global const float* dt_f, const float rho0,
+                                __global float4* pos, __global float4* velrho, __global const float4* accel,
+                                __global const uint* ids, __global const uint* halt, __global uint* counters,
+                                __global uint* keys, __global uint* vals) {
+    __local uint local_counts[3];
+    begin_counts(local_counts);
+    const uint i = get_global_id(0);
+    if (i < n) {
+        keys[i] = drift_settle_key(i, first, end, key_lo, key_hi, g, dt_f[0], rho0, pos, velrho, accel, ids, halt,
+                                   local_counts);
+        vals[i] = i;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid < 3u && local_counts[lid] != 0u) atomic_add(&counters[lid], local_counts[lid]);
+    end_counts(local_counts, counters);
 }
 
 // flags[i - first] = 1 for particles of [first, end) whose key lies in [key_lo, key_hi).

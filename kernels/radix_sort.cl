@@ -4,7 +4,9 @@
 //   sort_histogram  counts the digits of each tile into a digit-major table counts[d * groups + g];
 //   (the host scans that table, so entry (d, g) becomes where tile g's first key with digit d goes);
 //   sort_scatter    sorts its tile by the digit in local memory (stable) and writes each digit's run
-//                   of the tile to consecutive addresses from that entry on.
+//                   of the tile to consecutive addresses from that entry on. With `fold` the table
+//                   is not scanned: each work-group adds up the entries before its own (few tiles:
+//                   a launch or more fewer; integer sums, so the same addresses).
 // Key bits outside the digit never affect the order and are carried along unchanged.
 //
 // Each array is passed as a buffer and an element offset into it, so that the ping-pong of a sort
@@ -13,6 +15,7 @@
 //
 // Build options: -DWG=<work-group size, power of two, >= 16> -DITEMS=<pairs per work-item,
 // multiple of 4> -DDIGIT_BITS=<widest digit, 1..8>.
+#include "radix_digits.h"
 #include "work_group_scan.h"
 
 #define TILE (WG * ITEMS)
@@ -69,23 +72,7 @@ __kernel void sort_histogram(__global const uint* keys, const uint keys_at, cons
     const uint count = min((uint)TILE, n - base);
     uint key[ITEMS];
     load_blocked(keys, base, count, 0u, key);
-    // One atomic per run of equal digits: keys that are nearly sorted already (particle cell keys
-    // one step after the last sort) would otherwise all hammer the same counter.
-    const uint first = lid * ITEMS;
-    uint run_digit = (key[0] >> shift) & mask;
-    uint run = 0;
-    for (uint j = 0; j < ITEMS; ++j) {
-        if (first + j < count) {
-            const uint d = (key[j] >> shift) & mask;
-            if (d != run_digit) {
-                if (run) atomic_add(&hist[run_digit], run);
-                run_digit = d;
-                run = 0;
-            }
-            ++run;
-        }
-    }
-    if (run) atomic_add(&hist[run_digit], run);
+    count_digits(key, count, shift, mask, hist);
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint d = lid; d < radix; d += WG) counts[d * groups + g] = hist[d];
 }
@@ -141,10 +128,46 @@ inline void rank_and_exchange(uint* key, uint* val, const uint shift, const uint
     }
 }
 
+// digit_base[d] = where tile g's first key with digit d goes. Without `fold`, the scanned table's
+// entry offsets[d * groups + g]; with it, from the unscanned digit counts offsets[d * groups + g']:
+// the keys of every tile with a lower digit, then those of digit d in tiles before g. Work-item lid
+// takes digits [lid * PER, lid * PER + PER). Every work-item calls it either way (its work-group
+// scan has barriers: called inside a branch, it corrupted the heap of pocl 3.1's basic device).
+#define PER ((RADIX_MAX + WG - 1) / WG)
+inline void digit_bases(__global const uint* offsets, const uint fold, const uint radix, const uint groups,
+                        const uint g, __local uint* digit_base, __local uint* scratch) {
+    const uint lid = get_local_id(0);
+    uint totals[PER];
+    uint sum = 0;
+    for (uint k = 0; k < PER; ++k) {
+        const uint d = lid * PER + k;
+        uint total = 0, before = 0;
+        if (d < radix && !fold) {
+            before = offsets[d * groups + g];
+        } else if (d < radix) {
+            for (uint t = 0; t < groups; ++t) {
+                const uint c = offsets[d * groups + t];
+                total += c;
+                if (t < g) before += c;
+            }
+        }
+        if (d < radix) digit_base[d] = before;
+        totals[k] = total;
+        sum += total;
+    }
+    uint all;
+    uint prefix = work_group_exclusive_scan(sum, scratch, &all);  // 0 everywhere without fold
+    for (uint k = 0; k < PER; ++k) {
+        const uint d = lid * PER + k;
+        if (d < radix) digit_base[d] += prefix;
+        prefix += totals[k];
+    }
+}
+
 __kernel void sort_scatter(__global const uint* keys_in, const uint keys_in_at, __global const uint* vals_in,
                            const uint vals_in_at, __global uint* keys_out, const uint keys_out_at,
                            __global uint* vals_out, const uint vals_out_at, const uint n, const uint shift,
-                           const uint bits, const uint groups, __global const uint* offsets) {
+                           const uint bits, const uint groups, __global const uint* offsets, const uint fold) {
     keys_in += keys_in_at;
     vals_in += vals_in_at;
     keys_out += keys_out_at;
@@ -156,7 +179,7 @@ __kernel void sort_scatter(__global const uint* keys_in, const uint keys_in_at, 
     const uint g = get_group_id(0);
     const uint radix = 1u << bits;
     const uint mask = radix - 1u;
-    for (uint d = lid; d < radix; d += WG) digit_base[d] = offsets[d * groups + g];
+    digit_bases(offsets, fold, radix, groups, g, digit_base, scratch);
 
     const uint base = g * TILE;
     const uint count = min((uint)TILE, n - base);

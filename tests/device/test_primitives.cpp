@@ -258,6 +258,65 @@ TEST_CASE("scan: flags count as 0 or 1") {
     }
 }
 
+TEST_CASE("scan: run starts count as 1 (the compaction of sorted cell keys), across tiles") {
+    auto rng = test::rng(10);
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        device::Scan scan(*dev);
+        const std::size_t t = scan.tile();
+        for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{257}, t - 1, t, t + 1,
+                              3 * t + 5, std::size_t{100000}}) {
+            CAPTURE(n);
+            // Sorted keys in runs of 1 to 8, some runs crossing tile boundaries; the first key 0
+            // (a start all the same).
+            std::vector<u32> keys(n), starts(n);
+            u32 key = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (i > 0 && rng() % 4 == 0) key += 1 + static_cast<u32>(rng() % 3);
+                keys[i] = key;
+            }
+            if (n > t + 1) keys[t] = keys[t - 1];  // a run across the first tile boundary
+            for (std::size_t i = 0; i < n; ++i) starts[i] = i == 0 || keys[i] != keys[i - 1];
+            auto dk = upload(*dev, keys, n, "keys");
+            auto out = upload(*dev, {}, n + 1, "out");
+            scan.exclusive_starts(dk, out, n);
+            const std::string diff = first_differences(download(*dev, out, n + 1), cpu_exclusive_scan(starts), "out");
+            REQUIRE_MESSAGE(diff.empty(), diff);
+            check_guard(*dev, out, n + 1, "out");
+        }
+        auto both = dev->alloc(101 * sizeof(u32), "keys and out");
+        CHECK_THROWS_AS(scan.exclusive_starts(both, both, 100), Error);  // reads the element before: not in place
+    }
+}
+
+TEST_CASE("scan and radix sort: tile sums added up where they are used equal the scanned ones") {
+    // Config::fold_offsets / fold_scan off: the launches before fusion (Seams::unfused). Small
+    // tiles (64 pairs or elements) so that a few thousand elements make many tiles, on both sides
+    // of the bounds where folding stops (4 tile sums a work-item; 128 tiles of the sort).
+    auto rng = test::rng(11);
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        for (bool fold : {true, false}) {
+            CAPTURE(fold);
+            device::Scan::Config sc;
+            sc.work_group = 16;
+            sc.items = 4;
+            sc.fold_offsets = fold;
+            device::Scan scan(*dev, sc);
+            for (std::size_t n : {std::size_t{65}, std::size_t{64 * 64}, std::size_t{64 * 64 + 1}, std::size_t{5000}})
+                check_scan(*dev, scan, random_words(rng, n), n % 2 == 1);
+            device::RadixSort::Config rc;
+            rc.work_group = 16;
+            rc.items = 4;
+            rc.fold_scan = fold;
+            device::RadixSort sorter(*dev, rc);
+            REQUIRE(sorter.tile() == 64);
+            for (std::size_t n : {std::size_t{130}, std::size_t{64 * 128}, std::size_t{64 * 128 + 1}})
+                for (unsigned bits : {5u, 19u}) check_sort(*dev, sorter, random_words(rng, n), bits);
+        }
+    }
+}
+
 TEST_CASE("scan: too small buffers are refused") {
     auto* dev = test::devices().front();
     device::Scan scan(*dev);

@@ -10,12 +10,13 @@
 namespace clsph::device {
 using cl_rt::set_args;
 
-CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
+CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     : device_(device),
       grid_(grid),
-      sort_(device),
-      edge_sort_(device, RadixSort::Config{0, 0, 8, "edge_sort"}),
-      scan_(device),
+      fused_(fused),
+      sort_(device, RadixSort::Config{0, 0, sizing::kDigitBits, "sort", fused}),
+      edge_sort_(device, RadixSort::Config{0, 0, 8, "edge_sort", fused}),
+      scan_(device, Scan::Config{0, 0, "scan", fused}),
       wg_(device.work_group_size(128)) {
     const std::string opts = grid.kernel_options();
     auto k = [&](const char* name) { return device.kernel("cells.cl", name, opts); };
@@ -34,6 +35,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid)
     edge_gather_k_ = k("edge_gather");
     edge_place_k_ = k("edge_place");
     arrival_keys_k_ = k("arrival_keys");
+    drift_keys_k_ = k("drift_settle_keys");
     tables_bounded_k_ = k("tables_bounded");
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
@@ -94,6 +96,44 @@ void CellPipeline::enqueue_sort_keys(ParticleStore& ps, const SortSelection& s) 
              grid_.params(), ps.pos, ps.keys, ps.vals);
     device_.launch("cells.keys", keys_k_, s.n, wg_);
     sort_pairs(sort_, ps.keys, ps.vals, s.n, ps);
+}
+
+bool CellPipeline::drift_histogram_usable() {
+    if (drift_histogram_checked_) return drift_histogram_k_() != nullptr;
+    drift_histogram_checked_ = true;
+    cl::Kernel k = device_.kernel("drift_histogram.cl", "drift_keys_histogram",
+                                  grid_.kernel_options() + " " + sort_.tile_options());
+    // It runs in the sort's work-groups: where the device cannot (more registers than the sort's
+    // kernels), the drift and keys take their own launch and the sort its histogram.
+    const std::size_t limit = cl_rt::guarded("querying a kernel's work-group size", device_.label(), [&] {
+        return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device_.cl_device());
+    });
+    if (limit >= sort_.config().work_group || device_.quirks().kernel_work_group_size_understated)
+        drift_histogram_k_ = k;
+    return drift_histogram_k_() != nullptr;
+}
+
+void CellPipeline::enqueue_drift_sort_keys(ParticleStore& ps, KeyRange keep, const Drift& drift) {
+    const std::size_t n = ps.ranges.active();
+    ensure_counters();
+    if (n == 0) return;
+    const unsigned bits = grid_.key_bits();
+    if (RadixSort::borrowed_elements(n) * sizeof(cl_uint) <= ps.scratch.bytes() && drift_histogram_usable()) {
+        // With the sort's first histogram (kernels/drift_histogram.cl): a launch fewer.
+        const std::size_t tile = sort_.tile(), groups = (n + tile - 1) / tile;
+        const cl_rt::Buffer& counts = sort_.first_counts(n);
+        set_args(drift_histogram_k_, n, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi,
+                 grid_.params(), drift.dt, drift.rho0, ps.pos, ps.velrho, ps.accel, ps.id, drift.halt, counters_,
+                 ps.keys, ps.vals, cl_uint{sort_.first_bits(bits)}, groups, counts);
+        const std::size_t wg = sort_.config().work_group;
+        device_.launch("cells.drift_keys", drift_histogram_k_, groups * wg, wg);
+        sort_.sort_through_counted(ps.keys, ps.vals, n, bits, ps.scratch);
+        return;
+    }
+    set_args(drift_keys_k_, n, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(),
+             drift.dt, drift.rho0, ps.pos, ps.velrho, ps.accel, ps.id, drift.halt, counters_, ps.keys, ps.vals);
+    device_.launch("cells.drift_keys", drift_keys_k_, n, wg_);
+    sort_pairs(sort_, ps.keys, ps.vals, n, ps);
 }
 
 void CellPipeline::enqueue_reorder(ParticleStore& ps, std::size_t n, std::size_t dst_offset) {
@@ -193,11 +233,19 @@ void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n, cl_rt::
     cell_count_host_.resize(d, 1);
     cell_count_host_[0] = 0;
     if (n == 0) return;
-    // Compaction of non-empty cells: flags, scan (in place, n + 1 entries), scatter.
-    set_args(flag_k_, n, ps.keys, ps.vals);
-    d.launch("cells.flag", flag_k_, n, wg_);
-    scan_.exclusive(ps.vals, ps.vals, n);
+    // Compaction of non-empty cells: flags, scan (n + 1 entries), scatter.
+    scan_cell_starts(ps, n);
     d.read_async(ps.vals, cell_count_host_.data(), sizeof(cl_uint), n * sizeof(cl_uint), done);
+}
+
+void CellPipeline::scan_cell_starts(ParticleStore& ps, std::size_t n) {
+    if (fused_) {  // the flags counted by the scan as it reads the keys: a launch fewer
+        scan_.exclusive_starts(ps.keys, ps.vals, n);
+        return;
+    }
+    set_args(flag_k_, n, ps.keys, ps.vals);
+    device_.launch("cells.flag", flag_k_, n, wg_);
+    scan_.exclusive(ps.vals, ps.vals, n);
 }
 
 std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
@@ -221,9 +269,7 @@ void CellPipeline::enqueue_tables_bounded(ParticleStore& ps, std::size_t n, cons
     auto& d = device_;
     if (n == 0) return;
     const std::size_t cap = cell_capacity_;
-    set_args(flag_k_, n, ps.keys, ps.vals);
-    d.launch("cells.flag", flag_k_, n, wg_);
-    scan_.exclusive(ps.vals, ps.vals, n);
+    scan_cell_starts(ps, n);
     set_args(tables_bounded_k_, n, cap, ps.keys, ps.vals, cell_key_, cell_start_, cell_count_, halt);
     d.launch("cells.scatter_bounded", tables_bounded_k_, std::max(n, cap + 1), wg_);
     set_args(ranges_bounded_k_, cap, grid_.params(), cell_count_, cell_key_, cell_start_, ranges_);
@@ -245,12 +291,15 @@ void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::Event
     d.read_async(counters_, counters_host_.data(), 3 * sizeof(cl_uint), 0, done);
 }
 
+void CellPipeline::ensure_counters() {
+    if (counters_) return;
+    counters_ = device_.alloc(3 * sizeof(cl_uint), "exchange counters");
+    device_.fill(counters_, cl_uint{0}, 3);
+}
+
 void CellPipeline::enqueue_settle_on_device(ParticleStore& ps, KeyRange keep) {
     auto& d = device_;
-    if (!counters_) {
-        counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
-        d.fill(counters_, cl_uint{0}, 3);
-    }
+    ensure_counters();
     if (ps.ranges.owned == 0) return;
     set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(), ps.pos,
              counters_);

@@ -2,9 +2,11 @@
 // docs/multi_device.md), and the pieces of it that the exchange between slabs takes apart:
 //   cells.keys / cells.settle    offsets settled into cells, a key per particle (invalid outside
 //                                the domain or outside the columns this device keeps)
+//   cells.drift_keys             the step ahead: the first kick and drift, settle and keys at once
 //   sort                         radix sort of (key, index) on the grid's key bits only
 //   reorder.*                    every particle array into sorted order through the one scratch
-//   cells.flag / scan / scatter  compaction: cell_key[K], cell_start[K+1]
+//   [cells.flag] / scan / scatter  compaction: cell_key[K], cell_start[K+1] (the flags counted by
+//                                the scan itself unless unfused)
 //   cells.ranges                 each cell's 9 neighbour rows as particle ranges
 //   exchange.flag / gather       the particles of a window whose key lies in a range, packed
 //   edge.* / cells.arrival_keys  the sorts that merge arrivals with the particles kept
@@ -57,9 +59,18 @@ struct Settled {
     std::size_t kept = 0;         // now in the key range this device keeps
 };
 
+// The step ahead's first kick and drift (Physics): its dt (the clock's float), rho0 and the halt flag.
+struct Drift {
+    const cl_rt::Buffer& dt;
+    float rho0;
+    const cl_rt::Buffer& halt;
+};
+
 class CellPipeline {
 public:
-    CellPipeline(cl_rt::Device& device, const Grid& grid);
+    // fused: stages that read what the one before wrote, element for element, share a launch
+    // (issue 30); off (Seams::unfused): a launch each, as before, for the tests that both agree.
+    CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused = true);
     // One device on its own: settle, sort, drop particles outside the domain, build the tables.
     CellPassResult run(ParticleStore& store);
 
@@ -71,6 +82,11 @@ public:
     // (what lies below is left alone: room for arrivals from the left).
     void enqueue_sort_keys(ParticleStore& store, const SortSelection& selection);
     void enqueue_reorder(ParticleStore& store, std::size_t n, std::size_t dst_offset);
+    // The step ahead on one device, in one launch and the sort: the first kick and drift of the
+    // owned particles (Physics::kick_drift_on_clock), enqueue_settle_on_device and the keys of
+    // enqueue_sort_keys over the active particles, keeping the owned ones in `keep`. Bitwise those
+    // three; not with moving solids (they are put between the drift and the settle).
+    void enqueue_drift_sort_keys(ParticleStore& store, KeyRange keep, const Drift& drift);
     // Both, at offset 0.
     void enqueue_sort(ParticleStore& store, const SortSelection& selection);
 
@@ -138,10 +154,17 @@ public:
 
 private:
     void reserve_cells(std::size_t k);
+    void ensure_counters();
+    // Builds drift_histogram.cl's kernel the first time; whether it runs in the sort's work-groups.
+    bool drift_histogram_usable();
+    bool drift_histogram_checked_ = false;
+    // The compaction's scan over the sorted keys of [0, n) into vals (n + 1 entries).
+    void scan_cell_starts(ParticleStore& ps, std::size_t n);
     // Sorts n (key, value) pairs on the grid's key bits, ping-ponging through the store's reorder scratch.
     void sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n, ParticleStore& ps);
     cl_rt::Device& device_;
     const Grid& grid_;
+    bool fused_;
     RadixSort sort_, edge_sort_;
     Scan scan_;
     std::size_t wg_;
@@ -151,6 +174,7 @@ private:
     bool counted_on_device_ = false;
     double cell_headroom_ = 0.25;
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
+    cl::Kernel drift_keys_k_, drift_histogram_k_;  // the latter built on first use
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;

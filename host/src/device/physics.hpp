@@ -123,6 +123,9 @@ public:
     void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
                           cl_rt::EventSet& done);
     const cl_rt::Buffer& halt() const { return halt_; }
+    // The step ahead's first kick and drift as the cell pass runs it in its first launch
+    // (CellPipeline::enqueue_drift_sort_keys): the clock's dt, rho0, the halt flag.
+    Drift drift_on_clock() const { return Drift{dt_f_, sp_.rho0, halt_}; }
     // A next CFL step below this halts the steps after it (the host stops there: a collapse).
     void set_dt_floor(double dt) { dt_floor_ = dt; }
 

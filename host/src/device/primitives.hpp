@@ -22,6 +22,10 @@ public:
         std::size_t work_group = 0;  // work-items per group, a power of two (0: the device's, <= 256)
         std::size_t items = 0;       // elements per work-item, a multiple of 4 (0: 16, less if local memory is short)
         std::string name = "scan";   // launches are named "<name>.reduce" and "<name>.tiles"
+        // Where the tile sums are few (at most 4 per work-item), each work-group of the tiles adds
+        // up those before its own instead of a scan of them: two launches for any n up to
+        // 4 * WG tiles. Off: the launches before they were fused (Seams::unfused), the same sums.
+        bool fold_offsets = true;
     };
     explicit Scan(cl_rt::Device& device);
     Scan(cl_rt::Device& device, const Config& config);
@@ -34,6 +38,10 @@ public:
     // As exclusive(), counting each input element as 1 if it is non-zero and 0 otherwise (the scan
     // of stream compaction, without a pass to turn flags into 0/1).
     void exclusive_flags(const cl_rt::Buffer& flags, cl_rt::Buffer& out, std::size_t n);
+    // As exclusive(), counting element i as 1 where it starts a run of equal values (i == 0 or
+    // keys[i] != keys[i - 1]) and 0 otherwise: in sorted keys, out[i] is the number of distinct
+    // keys before i and out[n] their count. `keys` and `out` must be different buffers.
+    void exclusive_starts(const cl_rt::Buffer& keys, cl_rt::Buffer& out, std::size_t n);
     std::size_t scratch_bytes() const;
     std::size_t tile() const;  // elements per work-group, as resolved for this device
 
@@ -54,6 +62,10 @@ public:
         std::size_t items = 0;       // pairs per work-item, a multiple of 4 (0: the most local memory allows, <= 16)
         unsigned digit_bits = sizing::kDigitBits;  // bits sorted per pass, 1..8
         std::string name = "sort";   // launches: "<name>.histogram", "<name>.scan.*", "<name>.scatter"
+        // Where the tiles are few (128 at most), the scatter adds up the digit counts itself: two
+        // launches a pass instead of three or more. Off: the launches before they were fused
+        // (Seams::unfused; its scan's tiles unfolded too), the same order.
+        bool fold_scan = true;
     };
     explicit RadixSort(cl_rt::Device& device);
     RadixSort(cl_rt::Device& device, const Config& config);
@@ -64,6 +76,16 @@ public:
     // never swapped: after an odd number of passes the pairs are copied back into keys and values.
     void sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
                       const cl_rt::Buffer& scratch);
+    // The first pass's histogram made by the caller's own kernel (a launch fewer: the step ahead's
+    // keys, kernels/drift_histogram.cl): built with tile_options(), in work-groups of
+    // config().work_group over tiles of tile() pairs, it writes for tile g and each digit d of the
+    // keys' lowest first_bits(key_bits) bits their count to first_counts(n)[d * groups + g];
+    // sort_through_counted() then sorts as sort_through() does, without that histogram.
+    std::string tile_options() const;
+    unsigned first_bits(unsigned key_bits) const;
+    const cl_rt::Buffer& first_counts(std::size_t n);
+    void sort_through_counted(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                              const cl_rt::Buffer& scratch);
     static std::size_t borrowed_elements(std::size_t n);  // uint a sort_through() of n pairs borrows
     std::size_t scratch_bytes() const;
     std::size_t tile() const;                      // pairs per work-group, as resolved for this device

@@ -15,6 +15,9 @@ namespace {
 
 using sizing::sort_scatter_local_bytes;
 
+// The most tiles whose digit counts the scatter adds up itself (RadixSort::Config::fold_scan).
+constexpr std::size_t kFoldedGroups = 128;
+
 }  // namespace
 
 struct RadixSort::Impl {
@@ -26,7 +29,7 @@ struct RadixSort::Impl {
     cl_rt::Buffer keys_alt, values_alt, counts;
 
     Impl(cl_rt::Device& device, Config c)
-        : dev(device), config(std::move(c)), scan(device, Scan::Config{0, 0, config.name + ".scan"}) {
+        : dev(device), config(std::move(c)), scan(device, Scan::Config{0, 0, config.name + ".scan", config.fold_scan}) {
         if (config.digit_bits < 1 || config.digit_bits > 8)
             throw Error("radix sort: digit_bits must be 1..8, not " + std::to_string(config.digit_bits));
         const std::size_t wg0 = config.work_group ? config.work_group : dev.work_group_size(256);
@@ -78,18 +81,25 @@ struct RadixSort::Impl {
     };
 
     // One pass on the digit at `shift`, from (keys, values) to (keys_out, values_out).
-    void pass(Span keys, Span values, Span keys_out, Span values_out, std::size_t n, unsigned shift, unsigned key_bits) {
+    // `counted`: the digit counts are in `counts` already (a caller's kernel: sort_through_counted).
+    void pass(Span keys, Span values, Span keys_out, Span values_out, std::size_t n, unsigned shift, unsigned key_bits,
+              bool counted = false) {
         const cl_uint count = as_uint(n);
         const std::size_t groups = groups_of(n);
         const std::size_t wg = config.work_group;
         const cl_uint bits = std::min(config.digit_bits, key_bits - shift);
         const std::size_t entries = (std::size_t{1} << bits) * groups;
-        set_args(histogram, keys.buffer->get(), keys.at, count, cl_uint{shift}, bits, as_uint(groups), counts.get());
-        dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
-        scan.exclusive(counts, counts, entries);
+        if (!counted) {
+            set_args(histogram, keys.buffer->get(), keys.at, count, cl_uint{shift}, bits, as_uint(groups), counts.get());
+            dev.launch(config.name + ".histogram", histogram, groups * wg, wg);
+        }
+        // Few tiles: the scatter's work-groups add up the digit counts before their own instead of
+        // a scan of the table (each reads the whole table: groups^2 digits in all, hence the bound).
+        const bool fold = config.fold_scan && groups <= kFoldedGroups;
+        if (!fold) scan.exclusive(counts, counts, entries);
         set_args(scatter, keys.buffer->get(), keys.at, values.buffer->get(), values.at, keys_out.buffer->get(),
                  keys_out.at, values_out.buffer->get(), values_out.at, count, cl_uint{shift}, bits, as_uint(groups),
-                 counts.get());
+                 counts.get(), cl_uint{fold ? 1u : 0u});
         dev.launch(config.name + ".scatter", scatter, groups * wg, wg);
     }
 
@@ -107,7 +117,7 @@ struct RadixSort::Impl {
     }
 
     void sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
-                      const cl_rt::Buffer& scratch) {
+                      const cl_rt::Buffer& scratch, bool counted = false) {
         if (!prepare(keys, values, n, key_bits)) return;
         const std::size_t half = RadixSort::borrowed_elements(n) / 2;
         if (scratch.bytes() < 2 * half * sizeof(cl_uint))
@@ -120,7 +130,7 @@ struct RadixSort::Impl {
         for (unsigned shift = 0; shift < key_bits; shift += config.digit_bits) {
             const Span* in = at_home ? home : away;
             const Span* out = at_home ? away : home;
-            pass(in[0], in[1], out[0], out[1], n, shift, key_bits);
+            pass(in[0], in[1], out[0], out[1], n, shift, key_bits, counted && shift == 0);
             at_home = !at_home;
         }
         // After an odd number of passes the pairs are in the scratch: copy them home.
@@ -141,6 +151,25 @@ void RadixSort::sort(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, 
 void RadixSort::sort_through(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
                              const cl_rt::Buffer& scratch) {
     impl_->sort_through(keys, values, n, key_bits, scratch);
+}
+
+void RadixSort::sort_through_counted(cl_rt::Buffer& keys, cl_rt::Buffer& values, std::size_t n, unsigned key_bits,
+                                     const cl_rt::Buffer& scratch) {
+    impl_->sort_through(keys, values, n, key_bits, scratch, true);
+}
+
+std::string RadixSort::tile_options() const {
+    return "-DWG=" + std::to_string(impl_->config.work_group) + " -DITEMS=" + std::to_string(impl_->config.items) +
+           " -DDIGIT_BITS=" + std::to_string(impl_->config.digit_bits);
+}
+
+unsigned RadixSort::first_bits(unsigned key_bits) const { return std::min(impl_->config.digit_bits, key_bits); }
+
+const cl_rt::Buffer& RadixSort::first_counts(std::size_t n) {
+    ensure_capacity(impl_->dev, impl_->counts,
+                    sizing::sort_count_entries(n, impl_->tile, impl_->config.digit_bits) * sizeof(cl_uint),
+                    "radix sort digit counts");
+    return impl_->counts;
 }
 
 std::size_t RadixSort::borrowed_elements(std::size_t n) { return sizing::borrowed_elements(n); }

@@ -15,6 +15,12 @@ namespace {
 
 using sizing::scan_tiles_local_bytes;
 
+// kernels/scan.cl: what an input element counts as (its value, whether non-zero, whether it starts
+// a run of equal values).
+constexpr cl_uint kValues = 0, kFlags = 1, kStarts = 2;
+// Tile sums each work-group of the tiles adds up itself, per work-item, at most (a few loads).
+constexpr std::size_t kFoldedTiles = 4;
+
 }  // namespace
 
 struct Scan::Impl {
@@ -49,7 +55,7 @@ struct Scan::Impl {
 
     // Scans n elements of `in` into `out` (n + 1 elements); level 0 is the caller's scan, deeper
     // levels scan tile sums in place.
-    void run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, bool flags, std::size_t level) {
+    void run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, cl_uint flags, std::size_t level) {
         if (n == 0) {
             dev.fill(out, cl_uint{0}, 1);
             return;
@@ -60,20 +66,25 @@ struct Scan::Impl {
             if (sums.size() <= level) sums.resize(level + 1);
             ensure_capacity(dev, sums[level], (groups + 1) * sizeof(cl_uint), "scan tile sums");
             cl_rt::Buffer& s = sums[level];
-            set_args(reduce, in.get(), as_uint(n), cl_uint{flags}, s.get());
+            set_args(reduce, in.get(), as_uint(n), flags, s.get());
             dev.launch(config.name + ".reduce", reduce, groups * wg, wg);
-            run(s, s, groups, false, level + 1);
-            set_args(tiles, in.get(), out.get(), as_uint(n), cl_uint{flags}, s.get(), cl_uint{1});
+            // Few tiles: each work-group of the tiles adds up the sums before its own (has_offsets
+            // 2), a launch or more fewer than scanning them first.
+            const bool fold = config.fold_offsets && groups <= kFoldedTiles * wg;
+            if (!fold) run(s, s, groups, 0, level + 1);
+            set_args(tiles, in.get(), out.get(), as_uint(n), flags, s.get(), cl_uint{fold ? 2u : 1u});
         } else {
             // One tile: no offsets to add (out stands in for the unused offsets argument).
-            set_args(tiles, in.get(), out.get(), as_uint(n), cl_uint{flags}, out.get(), cl_uint{0});
+            set_args(tiles, in.get(), out.get(), as_uint(n), flags, out.get(), cl_uint{0});
         }
         dev.launch(config.name + ".tiles", tiles, groups * wg, wg);
     }
 
-    void checked_run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, bool flags) {
+    void checked_run(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n, cl_uint flags) {
         require_elements("scan input", in, n);
         require_elements("scan output", out, n + 1);
+        if (flags == kStarts && in.get()() == out.get()())
+            throw Error("scan of run starts: the input and the output must be different buffers");
         run(in, out, n, flags, 0);
     }
 };
@@ -81,10 +92,14 @@ struct Scan::Impl {
 Scan::Scan(cl_rt::Device& device) : Scan(device, Config{}) {}
 Scan::Scan(cl_rt::Device& device, const Config& config) : impl_(std::make_shared<Impl>(device, config)) {}
 
-void Scan::exclusive(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n) { impl_->checked_run(in, out, n, false); }
+void Scan::exclusive(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n) { impl_->checked_run(in, out, n, kValues); }
 
 void Scan::exclusive_flags(const cl_rt::Buffer& flags, cl_rt::Buffer& out, std::size_t n) {
-    impl_->checked_run(flags, out, n, true);
+    impl_->checked_run(flags, out, n, kFlags);
+}
+
+void Scan::exclusive_starts(const cl_rt::Buffer& keys, cl_rt::Buffer& out, std::size_t n) {
+    impl_->checked_run(keys, out, n, kStarts);
 }
 
 std::uint32_t Scan::exclusive_total(const cl_rt::Buffer& in, cl_rt::Buffer& out, std::size_t n) {

@@ -60,7 +60,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.device = devices[d - first_here];
         const std::size_t capacity = device::sizing::slab_capacity(total, D, options_.headroom);
         s.store = std::make_unique<device::ParticleStore>(*s.device, grid, capacity, options_.headroom);
-        s.cells = std::make_unique<device::CellPipeline>(*s.device, grid);
+        s.cells = std::make_unique<device::CellPipeline>(*s.device, grid, !options_.seams.unfused);
         s.cells->set_cell_headroom(options_.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);

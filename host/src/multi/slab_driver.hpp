@@ -129,7 +129,8 @@ private:
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
     void correct(std::size_t d, double dt, double time);
     StepOutcome reductions(cl_rt::EventSet& kicked);
-    void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
+    // With `drift`: the step's first kick and drift in the cell pass's first launch (fused).
+    void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done, bool drift);
     void read_force_times();
     // Floating bodies: the poses after the first half of a step (empty without bodies); the sums of
     // every device and rank; the corrector's pose put on every device; the forces taken and kicked.

@@ -32,6 +32,10 @@ struct Seams {
     // Every device opened as at least this many slabs (0 or 1: as the memory plan decides): what
     // several slabs cost, measured on one device (bench/bench_sph.cpp --slabs).
     std::size_t slabs = 0;
+    // Every device runs the step's launches as they were before fusion (issue 30: a launch per
+    // stage, the scans' tile sums scanned on their own): for the tests that the fused step is
+    // bitwise the same.
+    bool unfused = false;
     // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };
