@@ -12,6 +12,7 @@
 #define intV CLSPH_CAT(int, CLSPH_LANES)
 #define vloadV CLSPH_CAT(vload, CLSPH_LANES)
 #define vstoreV CLSPH_CAT(vstore, CLSPH_LANES)
+#define convert_floatV CLSPH_CAT(convert_float, CLSPH_LANES)
 
 // kernel_w / kernel_f of sph_kernel.h for lanes inside the support (q < 2); lanes outside are
 // masked by the caller.

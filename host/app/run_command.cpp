@@ -88,6 +88,8 @@ int run_command(const RunArgs& given) {
                     "checkpoint; drop one of them");
     const auto start = std::chrono::steady_clock::now();
     Scene scene = load_scene(args.scene_path, args.overrides);
+    if (!args.ranks || rank_of(*args.ranks) == 0)
+        for (const auto& note : scene.notes) std::cout << "clsph: note: " << args.scene_path << ": " << note << '\n';
     if (!args.render_method.empty())  // --render-method: recorded in run.json's scene with the rest
         scene.render.method = args.render_method == "splat" ? RenderMethod::splat : RenderMethod::surface;
     const RunPlan plan = make_plan(args, scene);

@@ -176,6 +176,7 @@ TEST_CASE("the plan predicts a floating body's buffers, buffer by buffer") {
         b.floating.enabled = true;
         b.floating.density = 500;
         s.solids.push_back(b);
+        s.boundary_method = BoundaryMethod::dbc;  // floating bodies need DBC walls (the file's default is mDBC)
         s.validate();
         Options o;
         o.synchronous = true;

@@ -96,6 +96,43 @@ TEST_CASE("omitted keys take the documented defaults") {
     CHECK(s.render.method == clsph::RenderMethod::surface);
 }
 
+TEST_CASE("walls by default: mDBC with wall friction; DBC, and a note, for a scene with floating bodies") {
+    auto scene = [](const std::string& physics, const std::string& boundaries) {
+        return clsph::Scene::from_json_text(R"({"physics": {"dp": 0.05)" + physics + R"(},
+            "domain": {"min": [-0.2, -0.2, -0.2], "max": [1.2, 0.6, 1.2]},
+            "fluid": [{"min": [0, 0, 0], "max": [1, 0.4, 0.25]}],
+            "boundaries": {"walls": [{"min": [0, 0, 0], "max": [1, 0.4, 1]}])" + boundaries + "}}",
+                                            "walls.json");
+    };
+    const clsph::Scene plain = scene("", "");
+    CHECK(plain.boundary_method == clsph::BoundaryMethod::mdbc);
+    CHECK(plain.physics.alpha_wall == clsph::kMdbcWallFriction);
+    CHECK(plain.notes.empty());
+    const clsph::Scene given = scene(R"(, "alpha_wall": 0.1)", "");
+    CHECK(given.physics.alpha_wall == 0.1);  // a given friction is kept
+    const clsph::Scene none = scene(R"(, "alpha_wall": 0)", "");
+    CHECK(none.physics.alpha_wall == 0.0);
+    const clsph::Scene dbc = scene("", R"(, "method": "dbc")");
+    CHECK(dbc.boundary_method == clsph::BoundaryMethod::dbc);
+    CHECK(dbc.physics.alpha_wall == 0.0);  // DBC's gap is its friction
+    const clsph::Scene mdbc = scene("", R"(, "method": "mdbc")");
+    CHECK(mdbc.physics.alpha_wall == clsph::kMdbcWallFriction);
+    // Round trips keep the walls (to_json writes the method and the friction).
+    const clsph::Scene back = clsph::Scene::from_json_text(plain.to_json(), "back.json");
+    CHECK(back.to_json() == plain.to_json());
+    CHECK(clsph::Scene::from_json_text(dbc.to_json(), "back.json").boundary_method == clsph::BoundaryMethod::dbc);
+    // Floating bodies: DBC when no method is given, with one note naming the key; mdbc is refused.
+    const std::string box = R"(, "boxes": [{"min": [0.5, 0.1, 0.2], "max": [0.7, 0.3, 0.3], "layers": 0, "floating": {"density": 500}}])";
+    const clsph::Scene floating = scene("", box);
+    CHECK(floating.boundary_method == clsph::BoundaryMethod::dbc);
+    CHECK(floating.physics.alpha_wall == 0.0);
+    REQUIRE(floating.notes.size() == 1);
+    CHECK(floating.notes[0].find("boundaries.method") == 0);
+    CHECK(scene("", box + R"(, "method": "dbc")").notes.empty());
+    CHECK(error_of([&] { scene("", box + R"(, "method": "mdbc")"); }).find("floating bodies need") != std::string::npos);
+    CHECK(clsph::Scene::from_json_text(floating.to_json(), "back.json").notes.empty());
+}
+
 TEST_CASE("to_json writes every default and reads back to the same scene") {
     const clsph::Scene s = clsph::Scene::from_json_text(full_scene, "everything.json");
     const std::string text = s.to_json();

@@ -83,6 +83,9 @@ TEST_CASE("dam_break: a 2:1 column, L = 0.146 m, L/dp = 20, a periodic slice 13 
     CHECK(c.fluid == 20 * 40 * 13);
     CHECK(c.coincident == 0);
     CHECK(s.run.end_time * std::sqrt(2 * 9.81 / 0.146) > 3.0);  // covers the experiment's T <= 3
+    // The default walls: mDBC with wall friction.
+    CHECK(s.boundary_method == clsph::BoundaryMethod::mdbc);
+    CHECK(s.physics.alpha_wall == clsph::kMdbcWallFriction);
 }
 
 TEST_CASE("hydrostatic: a closed tank, water 0.5 m deep") {
@@ -132,6 +135,9 @@ TEST_CASE("floating_box: a box of density 500 held above a tank's water, free in
     CHECK(f.density == 500.0);
     CHECK(f.free_translation == std::array<bool, 3>{true, false, true});
     CHECK(f.free_rotation == std::array<bool, 3>{false, true, false});
+    // Floating bodies need DBC walls (docs/scenes.md): the scene says so, so it reads without a note.
+    CHECK(s.boundary_method == clsph::BoundaryMethod::dbc);
+    CHECK(s.notes.empty());
     // The box, filled, spans the periodic slice: 17 x 13 x 13 lattice points, its bottom 0.1 m above the water.
     CHECK(s.solids[0].min[2] - s.fluids[0].max[2] == doctest::Approx(0.1));
     const Counts c = build_and_check(s);

@@ -21,6 +21,10 @@ enum class Diffusion { none, molteni_colagrossi, fourtakas };
 // How boundary particles get their density: dbc, the continuity equation (Crespo et al. 2007);
 // mdbc, from a ghost node mirrored into the fluid (English et al. 2021, docs/scenes.md).
 enum class BoundaryMethod { dbc, mdbc };
+// physics.alpha_wall of a scene file with mDBC walls that does not give one: with it the dam
+// break's surge front is 3.3 % RMS from Koshizuka & Oka at L/dp = 20, h = 2 dp, against 11.6 %
+// without (on the H200; tests/device/test_mdbc.cpp, BENCHMARKS.md).
+constexpr double kMdbcWallFriction = 0.3;
 // Time integration: Leap-frog (kick-drift-kick, one force pass per step) or Symplectic (position
 // Verlet predictor-corrector, two force passes per step; docs/scenes.md).
 enum class Integrator { leapfrog, symplectic };
@@ -213,10 +217,13 @@ struct Scene {
     std::vector<BoxWalls> walls;
     std::vector<SolidBox> solids;
     std::vector<MeshObject> meshes;
-    BoundaryMethod boundary_method = BoundaryMethod::dbc;  // JSON: boundaries.method
+    BoundaryMethod boundary_method = BoundaryMethod::dbc;  // JSON: boundaries.method (files: mdbc, see below)
     std::vector<Probe> probes;
     RunControl run;
     RenderSettings render;
+    // What a scene file left out and its reader chose in its place, for the user to read (clsph run
+    // prints each once): the walls' method for a scene with floating bodies.
+    std::vector<std::string> notes;
 
     // Reads a JSON scene (schema: docs/scenes.md). Errors name the file and the key path.
     static Scene from_file(const std::string& path);

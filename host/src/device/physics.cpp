@@ -99,7 +99,11 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
         correct_k_ = device.kernel("integrate.cl", "symplectic_correct", integ);
     }
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
-    if (mdbc_) mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
+    // mDBC's ghost nodes in the CPU form where the interaction pass runs it (kernels/mdbc.cl).
+    if (mdbc_ && form_ == Interaction::lanes)
+        mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary_lanes", opts + " -DCLSPH_LANES=" + std::to_string(kLanes));
+    else if (mdbc_)
+        mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
     probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
     kick_groups_ = sizing::kick_groups(device.info().compute_units);
     partials_ = device.alloc(kick_groups_ * sizing::kKickFloats * sizeof(float), "kick reductions");
@@ -202,7 +206,10 @@ void Physics::boundary_densities(ParticleStore& ps, const CellPipeline& cells) {
     cl_rt::set_args(mdbc_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), cells.cells(), cells.cell_count(),
                     cl_uint{cells.counted_on_device() ? 1u : 0u}, grid_.params(), sp_, ps.pos, cells.cell_key(),
                     cells.cell_start(), ps.velrho, ps.id, ghost_, ghost_count_, halt_);
-    device_.launch("sph.mdbc", mdbc_k_, n, wg_);
+    if (form_ == Interaction::lanes)
+        device_.launch("sph.mdbc", mdbc_k_, cells.cells(), 1);  // a work-item per cell, as forces
+    else
+        device_.launch("sph.mdbc", mdbc_k_, n, wg_);
 }
 
 void Physics::kick_drift(ParticleStore& ps, double dt) {

@@ -339,6 +339,27 @@ std::string scene_name_for(const std::string& path) {
     return stem.empty() ? "scene" : stem;
 }
 
+namespace {
+// The walls of a scene file that does not choose them (docs/scenes.md, boundaries.method): mDBC
+// with wall friction alpha_wall = kMdbcWallFriction unless physics.alpha_wall is given; scenes
+// with floating bodies keep DBC (mDBC's ghost nodes do not follow a floating body yet), and say so.
+void apply_wall_defaults(const Json& doc, Scene& s) {
+    auto given = [&](const char* object, const char* key) {
+        const auto it = doc.find(object);
+        return it != doc.end() && it->is_object() && it->contains(key);
+    };
+    if (!given("boundaries", "method")) {
+        s.boundary_method = s.has_floating() ? BoundaryMethod::dbc : BoundaryMethod::mdbc;
+        if (s.has_floating())
+            s.notes.push_back("boundaries.method: the scene has floating bodies, so its walls are \"dbc\" (the "
+                              "default \"mdbc\" does not move its ghost nodes with a floating body yet); give "
+                              "\"method\" to silence this");
+    }
+    if (s.boundary_method == BoundaryMethod::mdbc && !given("physics", "alpha_wall"))
+        s.physics.alpha_wall = kMdbcWallFriction;
+}
+}  // namespace
+
 Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
     Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run", "render"});
     Scene s;
@@ -352,6 +373,8 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
     if (const Json* r = top.find("render")) s.render = read_render(*r);
+
+    apply_wall_defaults(doc, s);
 
     const bool fluid_mesh = std::any_of(s.meshes.begin(), s.meshes.end(), [](const MeshObject& m) { return m.fluid; });
     if (s.fluids.empty() && !fluid_mesh)
