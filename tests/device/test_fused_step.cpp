@@ -33,15 +33,7 @@ Scene sliding_dam() {
     Scene s = test::small_dam(0.146 / 16);
     s.fluids.front().velocity = {1.0, 0.0, 0.0};
     s.run.probe_every = 5;
-    Probe p;
-    p.name = "base";
-    p.point = {0.3, 0.04, 0.02};
-    s.probes.push_back(p);
-    Probe h;
-    h.kind = Probe::Kind::height;
-    h.name = "column";
-    h.point = {0.05, 0.04, 0};
-    s.probes.push_back(h);
+    test::add_dam_probes(s);
     return s;
 }
 

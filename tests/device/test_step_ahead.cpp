@@ -55,15 +55,7 @@ Scene probed_dam() {
     Scene s = test::dam_break_slice(0.146, 0.146 / 14, 3.0, x_min | x_max | z_min);
     s.physics.coefsound = 10;
     s.run.probe_every = 7;
-    Probe p;
-    p.name = "base";
-    p.point = {0.3, 0.04, 0.02};
-    s.probes.push_back(p);
-    Probe h;
-    h.kind = Probe::Kind::height;
-    h.name = "column";
-    h.point = {0.05, 0.04, 0};
-    s.probes.push_back(h);
+    test::add_dam_probes(s);
     return s;
 }
 

@@ -104,4 +104,18 @@ struct GaugeTank {
     }
 };
 
+// Two probes on the small dams: the pressure near the floor at x = 0.3 ("base") and the water's
+// height over the column ("column").
+inline void add_dam_probes(Scene& s) {
+    Probe p;
+    p.name = "base";
+    p.point = {0.3, 0.04, 0.02};
+    s.probes.push_back(p);
+    Probe h;
+    h.kind = Probe::Kind::height;
+    h.name = "column";
+    h.point = {0.05, 0.04, 0};
+    s.probes.push_back(h);
+}
+
 }  // namespace clsph::test
