@@ -20,3 +20,12 @@ __kernel void drift(const uint n, const float dt, __global float4* pos, __global
     p.xyz += velrho[i].xyz * dt;
     pos[i] = p;
 }
+
+// Busy work for timer tests: each item iterates a cheap recurrence `rounds` times.
+__kernel void spin(const uint n, const uint rounds, __global float* out) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float x = (float)i * 1e-3f;
+    for (uint r = 0; r < rounds; ++r) x = x * 0.999999f + 1e-6f;
+    out[i] = x;
+}

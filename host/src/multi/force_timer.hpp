@@ -2,7 +2,8 @@
 // balancer used to force on, and which on rusticl times every launch by finishing the queue): a
 // marker before the pass and one after it on the compute queue. Where the quirks layer says the
 // device's event timestamps are honest, the markers' end timestamps give the time; elsewhere
-// (rusticl's timestamps are fake) the host clock read in the markers' completion callbacks does.
+// (rusticl's timestamps are fake) the host clock does: read in begin() once the queue is empty,
+// and in the end marker's completion callback.
 #pragma once
 #include "cl/device.hpp"
 
