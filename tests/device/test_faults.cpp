@@ -22,6 +22,7 @@ Scene small_scene() { return test::dam_break_slice(0.1, 0.01, 3.0, x_min | x_max
 Options with_fault(std::size_t devices, testing::Fault fault) {
     Options o;
     o.devices = test::device_spec(devices);
+    o.balance = BalanceMode::fixed;  // every device keeps a slab (an idle device launches nothing)
     testing::Seams seams;
     seams.faults.push_back(fault);
     testing::set_seams(o, std::move(seams));
