@@ -8,18 +8,26 @@
 #include "scene/motion.hpp"
 
 #include <algorithm>
+#include <exception>
+#include <mutex>
 
 namespace clsph::multi {
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : partition_(grid),
+      options_(options),
+      params_(device::make_sph_params(scene)),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, &p, nullptr);
 }
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const scene::LatticePlan& plan, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : partition_(grid),
+      options_(options),
+      params_(device::make_sph_params(scene)),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, nullptr, &plan);
 }
 
@@ -185,8 +193,20 @@ StepOutcome SlabDriver::start() {
     return out;
 }
 
-// The step, on every device count. One device is the same path: no windows, no neighbours.
 StepOutcome SlabDriver::step(double dt, double time) {
+    if (!across_ranks()) return step_here(dt, time);
+    try {
+        return step_here(dt, time);
+    } catch (const RankFailure&) {
+        throw;
+    } catch (const std::exception& e) {
+        ranks_.ranks->give_up(e.what());  // a failure on this thread (waiting for a device, say)
+        throw;
+    }
+}
+
+// The step, on every device count. One device is the same path: no windows, no neighbours.
+StepOutcome SlabDriver::step_here(double dt, double time) {
     apply_seams();                                 // tests: forced cuts
     drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
@@ -374,12 +394,36 @@ void SlabDriver::for_each_device(const PerDevice& work) {
         std::vector<std::size_t> mine;
         for (std::size_t d = 0; d < slabs_.size(); ++d)
             if (here(d)) mine.push_back(d);
-        if (mine.size() == 1 || options_.seams.serialize_devices) {
-            for (auto d : mine) work(d);
-            return;
+        // A device failing gives the step up at once (Ranks::give_up): the other ranks, and this
+        // rank's other threads, may be waiting for what it would have sent. Its error is the one
+        // thrown, not a RankFailure another thread met because of it.
+        std::exception_ptr failed;
+        std::mutex first;
+        const PerDevice guarded = [&](std::size_t d) {
+            try {
+                work(d);
+            } catch (const RankFailure&) {
+                throw;
+            } catch (const std::exception& e) {
+                {
+                    std::lock_guard<std::mutex> lock(first);
+                    if (!failed) failed = std::current_exception();
+                }
+                ranks_.ranks->give_up(e.what());
+                throw;
+            }
+        };
+        try {
+            if (mine.size() == 1 || options_.seams.serialize_devices) {
+                for (auto d : mine) guarded(d);
+            } else if (!mine.empty()) {
+                if (!threads_) threads_ = std::make_unique<DeviceThreads>(mine.size());
+                threads_->run([&](std::size_t k) { guarded(mine[k]); });
+            }
+        } catch (...) {
+            if (failed) std::rethrow_exception(failed);
+            throw;
         }
-        if (!threads_) threads_ = std::make_unique<DeviceThreads>(mine.size());
-        threads_->run([&](std::size_t k) { work(mine[k]); });
         return;
     }
     std::size_t busy = 0;
