@@ -22,10 +22,12 @@ Alarm::~Alarm() {
         MPI_Cancel(&incoming_);  // a receive: cancelled at once if nothing matched it
         MPI_Wait(&incoming_, MPI_STATUS_IGNORE);
     }
-    // The notices are a few KiB (sent eagerly); a peer that never takes them must not hold us.
+    // The notices are a few KiB (sent eagerly); a peer that never takes them must not hold us, and
+    // their communicator stays (never freed under messages in flight).
     for (MPI_Request& r : sent_)
         if (r != MPI_REQUEST_NULL) MPI_Request_free(&r);
-    MPI_Comm_free(&comm_);
+    if (sent_.empty()) MPI_Comm_free(&comm_);
+    else static_cast<void>(outgoing_.release());
 }
 
 void Alarm::raise(const std::string& why) {
@@ -33,12 +35,12 @@ void Alarm::raise(const std::string& why) {
     if (off_.load()) return;  // once: a notice came, or this rank raised it already
     from_ = rank_;
     why_ = why;
-    outgoing_ = why.substr(0, static_cast<std::size_t>(kNotice - 1));
+    *outgoing_ = why.substr(0, static_cast<std::size_t>(kNotice - 1));
     for (int r = 0; r < size_; ++r) {
         if (r == rank_) continue;
         MPI_Request q = MPI_REQUEST_NULL;
         // No check(): a rank giving up says what it can; its own error is the one to report.
-        if (MPI_Isend(outgoing_.data(), static_cast<int>(outgoing_.size()) + 1, MPI_CHAR, r, 0, comm_, &q) == MPI_SUCCESS)
+        if (MPI_Isend(outgoing_->data(), static_cast<int>(outgoing_->size()) + 1, MPI_CHAR, r, 0, comm_, &q) == MPI_SUCCESS)
             sent_.push_back(q);
     }
     off_.store(true);

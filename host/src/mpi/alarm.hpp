@@ -9,6 +9,7 @@
 #include <mpi.h>
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -39,7 +40,7 @@ private:
     std::mutex mutex_;  // one thread at a time tests the request
     MPI_Request incoming_ = MPI_REQUEST_NULL;
     std::vector<char> notice_ = std::vector<char>(kNotice, '\0');
-    std::string outgoing_;
+    std::unique_ptr<std::string> outgoing_ = std::make_unique<std::string>();  // let go with the notices
     std::vector<MPI_Request> sent_;
     std::atomic<bool> off_{false};
     int from_ = -1;       // the rank whose notice set it off (this rank's own when it raised it)

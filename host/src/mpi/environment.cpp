@@ -84,7 +84,7 @@ Environment::~Environment() {
     // MPI_Finalize does, which is why a rank that failed calls abort() instead of returning.
     if (base_ != MPI_COMM_NULL) MPI_Comm_free(&base_);
     if (node_ != MPI_COMM_NULL) MPI_Comm_free(&node_);
-    if (world_ != MPI_COMM_NULL) MPI_Comm_free(&world_);
+    if (world_ != MPI_COMM_NULL && !keep_world_) MPI_Comm_free(&world_);
     int finalized = 0;
     MPI_Finalized(&finalized);
     if (owns_ && !finalized) MPI_Finalize();

@@ -80,10 +80,7 @@ public:
     // A duplicate of `comm` (errors returned, as the original's), freed with this object.
     MpiRanks(std::shared_ptr<mpi::Environment> env, MPI_Comm comm, std::shared_ptr<mpi::Alarm> alarm)
         : env_(std::move(env)), comm_(comm), owns_comm_(true), alarm_(std::move(alarm)) {}
-    ~MpiRanks() override {
-        // Freed with a given-up step's operations pending: MPI keeps it until they end (never).
-        if (owns_comm_) MPI_Comm_free(&comm_);
-    }
+    ~MpiRanks() override { free_comm(); }
     MpiRanks(const MpiRanks&) = delete;
     MpiRanks& operator=(const MpiRanks&) = delete;
     const multi::RankPlace& place() const override { return env_->place(); }
@@ -101,8 +98,8 @@ public:
         MPI_Comm fresh = MPI_COMM_NULL;
         mpi::check(MPI_Comm_dup(env_->base(), &fresh), "MPI_Comm_dup", "a fresh communicator after a failure");
         mpi::check(MPI_Comm_set_errhandler(fresh, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
+        free_comm();
         alarm_ = std::make_shared<mpi::Alarm>(env_->base());
-        if (owns_comm_) MPI_Comm_free(&comm_);
         comm_ = fresh;
         owns_comm_ = true;
     }
@@ -203,6 +200,15 @@ private:
     static int count(std::size_t n) {
         if (n > 1u << 30) throw Error("MPI collective of " + std::to_string(n) + " elements: too many");
         return static_cast<int>(n);
+    }
+    // A communicator on which a given-up step may have left collectives is never freed: Open MPI
+    // goes on progressing them, and on a freed communicator that crashes. Nothing uses it again.
+    void free_comm() {
+        if (alarm_->gone_off()) {
+            if (!owns_comm_) env_->keep_comm();  // the Environment's own copy of MPI_COMM_WORLD
+            return;
+        }
+        if (owns_comm_) MPI_Comm_free(&comm_);
     }
     template <class T>
     void reduce(T* data, std::size_t n, MPI_Datatype type, MPI_Op op, const char* what) {
