@@ -50,7 +50,10 @@ FrameWriter::FrameWriter(std::string dir, const std::string& collection_name, Fr
       format_(format),
       filter_(std::move(filter)),
       max_in_flight_(max_in_flight ? max_in_flight : 1),
-      pvd_(dir_ + "/" + collection_name),
+      collection_(dir_ + "/" + collection_name),
+      // Across ranks the collection is rank 0's alone: another rank writing it (even empty, as a
+      // new writer does) would race rank 0's renames into place.
+      pvd_(!format_.ranks || rank_of(*format_.ranks) == 0 ? std::make_unique<PvdWriter>(collection_) : nullptr),
       thread_([this] { loop(); }) {}
 
 FrameWriter::~FrameWriter() { stop(); }
@@ -60,10 +63,9 @@ void FrameWriter::resume_at(const std::vector<PvdEntry>& before, double time) {
     std::lock_guard<std::mutex> lock(mutex_);
     const double eps = 1e-9 * std::max(1.0, std::abs(time));
     // Across ranks the collection is rank 0's to write; the others only count its frames.
-    const bool writes_collection = !format_.ranks || rank_of(*format_.ranks) == 0;
     for (const auto& e : before) {
         if (e.time > time + eps) break;
-        if (writes_collection) pvd_.add(e.time, e.file);
+        if (pvd_) pvd_->add(e.time, e.file);
         ++submitted_;
         ++written_;
         last_time_ = e.time;
@@ -170,7 +172,7 @@ void FrameWriter::write(const Frame& frame) {
     if (format_.csv) write_csv(dir_ + "/" + frame_name(frame.index, "csv"), frame.pieces[0], filter_.fields);
     // The collection names a frame only once its file is complete, so ParaView (which may already
     // have the .pvd open) never follows it to a missing file.
-    pvd_.add(frame.time, vtu);
+    pvd_->add(frame.time, vtu);
 }
 
 void FrameWriter::write_pieces(const Frame& frame) {
@@ -198,7 +200,7 @@ void FrameWriter::write_pieces(const Frame& frame) {
     // The index once every piece is complete, the collection once the index is.
     const std::string index = frame_name(frame.index, "pvtu");
     write_pvtu(dir_ + "/" + index, names, filter_.fields);
-    pvd_.add(frame.time, index);
+    pvd_->add(frame.time, index);
 }
 
 void FrameWriter::write_rank_piece(std::size_t index, double time, const Particles& mine) {
@@ -232,7 +234,7 @@ void FrameWriter::write_rank_piece(std::size_t index, double time, const Particl
     for (int r = 0; r < ranks_in(ranks); ++r) names.push_back(piece_name(index, static_cast<std::size_t>(r)));
     const std::string pvtu = frame_name(index, "pvtu");
     write_pvtu(dir_ + "/" + pvtu, names, filter_.fields);
-    pvd_.add(time, pvtu);
+    pvd_->add(time, pvtu);
 }
 
 }  // namespace clsph::app

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <deque>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -61,7 +62,7 @@ public:
     std::size_t frames_submitted() const { return submitted_; }
     std::size_t frames_written() const;
     double last_time() const { return last_time_; }  // of the last frame submitted
-    const std::string& collection_path() const { return pvd_.path(); }
+    const std::string& collection_path() const { return collection_; }
     // What a frame of n particles costs on disk (bytes), for --dry-run.
     static std::size_t vtu_bytes(std::size_t n);
 
@@ -81,7 +82,8 @@ private:
     FrameFormat format_;
     FrameFilter filter_;
     std::size_t max_in_flight_;
-    PvdWriter pvd_;  // used by the writer thread only, once started
+    std::string collection_;
+    std::unique_ptr<PvdWriter> pvd_;  // used by the writer thread only, once started; across ranks rank 0's only
     std::size_t submitted_ = 0;
     double last_time_ = -1.0;
 

@@ -8,6 +8,7 @@
 #include <clsph/checkpoint.hpp>
 #include <clsph/error.hpp>
 #include <clsph/io.hpp>
+#include <clsph/ranks.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -54,23 +55,65 @@ std::pair<std::string, Checkpoint> latest_checkpoint(const std::string& dir, con
 
 }  // namespace
 
+namespace {
+
+// Across ranks, once every rank has given up the step: fresh communicators, then every rank's
+// failed device (if any) and devices left, gathered, so that every rank goes on alike. The devices
+// left as a per-rank spec ("rank0=0;rank1=none": a rank with none takes part without slabs).
+struct RanksLeft {
+    std::string spec;
+    std::string failed;  // "rank R: #i name failed: message", one line per failed device
+    std::size_t devices = 0;
+};
+
+RanksLeft ranks_left(Ranks& ranks, const std::vector<std::string>& names, const LoopEnd& end) {
+    recover(ranks);
+    const std::string mine = remaining_devices(names, end.failed_device);
+    std::size_t left = 0;
+    for (const auto& n : names) left += n != end.failed_device;
+    const std::string line = std::to_string(left) + " " + (mine.empty() ? "none" : mine) + "\n" +
+                             (end.failed_device.empty() ? "" : "device " + end.failed_device + " failed: " + end.failure_message);
+    RanksLeft out;
+    const auto all = gather_text(ranks, line);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+        const auto eol = all[r].find('\n');
+        const std::string head = all[r].substr(0, eol), failure = all[r].substr(eol + 1);
+        const auto space = head.find(' ');
+        out.devices += std::stoul(head.substr(0, space));
+        out.spec += (out.spec.empty() ? "" : ";") + ("rank" + std::to_string(r) + "=" + head.substr(space + 1));
+        if (!failure.empty()) out.failed += (out.failed.empty() ? "" : "\n") + ("rank " + std::to_string(r) + ": " + failure);
+    }
+    return out;
+}
+
+}  // namespace
+
 // With --on-device-failure continue, a device failure goes back to the last checkpoint on the
-// devices that are left (as clsph resume would, recorded in run.json's resumes).
+// devices that are left (as clsph resume would, recorded in run.json's resumes). Across ranks every
+// rank gave up the step (the one whose device failed, and the others for it): every rank goes back
+// to the same checkpoint, the slabs re-cut over the devices left on every rank.
 int run_with_failover(Simulation& sim, const RunArgs& args, const RunPlan& plan, const ResumeState* state,
                       const Scene& scene, std::chrono::steady_clock::time_point start) {
     const std::vector<std::string> names = sim.device_names();
     const LoopEnd end = run_loop(sim, args, plan, state, start);
-    if (end.failed_device.empty()) return end.code;
-    const std::string& failed = end.failed_device;
-    const std::string& message = end.failure_message;
+    if (!end.failed()) return end.code;
     RunArgs next = args;
-    next.devices = remaining_devices(names, failed);
+    std::string failure = "device " + end.failed_device + " failed: " + end.failure_message;
+    if (args.ranks && ranks_in(*args.ranks) > 1) {
+        const RanksLeft left = ranks_left(*args.ranks, names, end);
+        if (left.devices == 0)  // as in one process, the run cannot go on without a device
+            abort_all(*args.ranks, exit_device_failed, "error: " + left.failed + "\nno device is left to go on with");
+        next.devices = left.spec;
+        failure = left.failed;
+    } else {
+        next.devices = remaining_devices(names, end.failed_device);
+    }
     next.resume_dir = plan.out_dir;
-    next.resume_reason = "device " + failed + " failed: " + message;
+    next.resume_reason = failure;
     next.resume_command_line = args.resume_command_line.empty() ? args.command_line : args.resume_command_line;
-    std::cerr << "clsph: device " << failed << " failed: " << message
-              << "\nclsph: --on-device-failure continue: going back to the last checkpoint on devices " << next.devices
-              << '\n';
+    if (speaks(args))
+        std::cerr << "clsph: " << failure << "\nclsph: --on-device-failure continue: going back to the last checkpoint on devices "
+                  << next.devices << '\n';
     // The test build (clsph-faulty): the injected fault was the failure; the devices left run clean.
     next.test_seams = false;
     return resume_run(scene, next, plan, start);

@@ -42,14 +42,13 @@ int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan&
     return exit_simulation_failed;
 }
 
-// What a run across MPI ranks does not do yet (issue 21), refused before anything starts.
+// What a run across MPI ranks does not do yet, refused before anything starts.
 RunArgs across_ranks(RunArgs args) {
     if (!args.ranks || ranks_in(*args.ranks) < 2) return args;
     auto refuse = [](const char* what) {
         throw Error(std::string(what) + " is not supported across MPI ranks yet; run it in one process (docs/mpi.md lists what runs across ranks)");
     };
     if (args.serve) refuse("--serve");
-    if (args.on_device_failure == "continue") refuse("--on-device-failure continue");
     return args;
 }
 

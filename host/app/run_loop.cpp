@@ -155,21 +155,21 @@ public:
             code = exit_simulation_failed;
             write_last_good();
         } catch (const DeviceError& e) {
+            const bool across = args_.ranks && ranks_in(*args_.ranks) > 1;
+            if (across && args_.on_device_failure == "continue" && !e.device().empty()) {
+                // The others, waiting for this rank inside the step, give it up too; every rank
+                // then goes back to the last checkpoint on the devices left (resume.cpp).
+                give_up(*args_.ranks, e.what());
+                return hand_over(e.device(), e.what());
+            }
             // Across ranks a device fails on one rank only, while the others wait for it in the
             // step: stop every rank now, with this rank's message (mpirun reports the status).
-            if (args_.ranks && ranks_in(*args_.ranks) > 1) {
+            if (across) {
                 progress_.clear();
                 abort_all(*args_.ranks, exit_device_failed, std::string("error: ") + e.what());
             }
-            if (args_.on_device_failure == "continue" && sim_.device_names().size() > 1 && !e.device().empty()) {
-                // The failover (resume.cpp) goes back to the last checkpoint on the devices left.
-                progress_.clear();
-                failed_device_ = e.device();
-                failure_message_ = e.what();
-                frames_.finish();
-                record_.flush();
-                return exit_device_failed;
-            }
+            if (args_.on_device_failure == "continue" && sim_.device_names().size() > 1 && !e.device().empty())
+                return hand_over(e.device(), e.what());  // the failover (resume.cpp): the devices left
             // A device failed mid-run (lost, out of resources): its state is gone; the last frame
             // downloaded is written as the last good state.
             progress_.clear();
@@ -177,6 +177,11 @@ public:
             message = e.what();
             code = exit_device_failed;
             write_last_good();
+        } catch (const RankFailure& e) {
+            // Another rank gave up the step (its device failed) and this one gave up its own.
+            if (args_.on_device_failure == "continue") return hand_over({}, e.what());
+            progress_.clear();  // that rank stops every rank; should this one be first, the same message
+            abort_all(*args_.ranks, exit_device_failed, std::string("error: ") + e.what());
         } catch (const Error& e) {
             // A writer or I/O error: say so in run.json, then report it as any other error.
             progress_.clear();
@@ -201,6 +206,17 @@ public:
     }
 
 private:
+    // A device failed (here: its label; across ranks empty where another rank's did) and the run
+    // goes on from its last checkpoint: what is written so far stays, the failover takes over.
+    int hand_over(const std::string& device, const std::string& message) {
+        progress_.clear();
+        failed_device_ = device;
+        failure_message_ = message;
+        frames_.finish();
+        record_.flush();
+        return exit_device_failed;
+    }
+
     // The summary on the terminal; on a failure the error is the last thing said.
     void report(int code, const std::string& message, std::uint64_t first_step) {
         totals_.last = sim_.info();

@@ -25,9 +25,11 @@ struct ResumeState {
 struct LoopEnd {
     int code = exit_ok;  // an ExitCode
     // With --on-device-failure continue, a device failed (code is exit_device_failed): its label
-    // and the error, for the failover (resume.hpp); both empty otherwise.
+    // and the error, for the failover (resume.hpp); both empty otherwise. Across ranks the label
+    // is empty on the ranks that gave up the step for another rank's device (the message says).
     std::string failed_device;
     std::string failure_message;
+    bool failed() const { return !failure_message.empty(); }
 };
 
 // Steps `sim` from where it stands to the plan's end, or from the checkpoint `resume` names (null:

@@ -151,7 +151,7 @@ void add_checkpoint_options(CLI::App& run, RunArgs& a) {
         ->group(checkpoint_group);
     run.add_option("--on-device-failure", a.on_device_failure,
                    "when a device fails mid-run: stop (exit 3, last_good.vtu) or continue (back to the last checkpoint, "
-                   "the slabs re-cut over the remaining devices; default: stop)")
+                   "the slabs re-cut over the remaining devices, across MPI ranks those of every rank; default: stop)")
         ->check(CLI::IsMember({"stop", "continue"}))
         ->group(checkpoint_group);
 }

@@ -6,10 +6,14 @@
 // pthread" and RUSTICL_ENABLE=llvmpipe: pocl to pocl, pocl to rusticl, rusticl to pocl), with
 // payloads in one message and in many small chunks.
 //
+// A rank giving up a step (Ranks::give_up): the other's waits end with RankFailure, and after
+// recover() the ranks go on.
+//
 // `clsph-mpi-tests --abort-demo`: rank 1 fails while rank 0 waits for it; mpi::abort must stop both.
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -19,15 +23,18 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cl/device.hpp"
 #include "clsph/build_info.hpp"
 #include "clsph/error.hpp"
+#include "clsph/ranks.hpp"
 #include "device/particle_arrays.hpp"
 #include "mpi/environment.hpp"
 #include "mpi/messages.hpp"
 #include "mpi/link.hpp"
+#include "multi/ranks.hpp"
 
 using namespace clsph;
 using device::ParticleArrays;
@@ -269,6 +276,45 @@ TEST_CASE("mpi: a block of more than INT_MAX bytes (set CLSPH_TEST_MPI_LARGE=1: 
             CHECK(bad == 0);
         }
     });
+}
+
+// The alarm (mpi/alarm.hpp) through the Ranks: rank 1 gives the step up while rank 0 waits for
+// its count on a link; rank 0's wait and then its collective throw RankFailure naming rank 1 and
+// its error, as do rank 1's own waits; after recover() the ranks go on together, while the failed
+// run's Ranks stays given up (and its link is destroyed without waiting).
+TEST_CASE("mpi: a rank giving up the step: the other's waits throw RankFailure; after recover the ranks go on") {
+    int argc = 0;
+    char** argv = nullptr;
+    const std::shared_ptr<Ranks> ranks = mpi_ranks(argc, argv);
+    const std::shared_ptr<Ranks> run = ranks->fork();
+    const int rank = ranks->rank();
+    const std::string why = "step 7: a deliberate failure (the alarm test)";
+    {
+        std::unique_ptr<multi::RemoteReceiveLink> link;
+        if (rank == 0) link = run->receiver(*devices().front(), 1, 0);
+        if (rank == 1) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));  // rank 0 is waiting by now
+            give_up(*ranks, why);
+        } else {
+            CHECK_THROWS_WITH_AS(link->wait_count(), doctest::Contains(("rank 1 of 2: " + why).c_str()), RankFailure);
+        }
+        std::vector<double> v{1.0};
+        try {
+            run->sum(v);
+            FAIL("the sum went through");
+        } catch (const RankFailure& e) {
+            CHECK(e.rank() == 1);
+            CHECK(std::string(e.what()) == "rank 1 of 2: " + why);
+        }
+    }
+    recover(*ranks);
+    const std::shared_ptr<Ranks> next = ranks->fork();
+    std::vector<double> v{static_cast<double>(rank + 1)};
+    next->sum(v);
+    CHECK(v[0] == 3.0);
+    CHECK(next->gather_text(std::to_string(rank)) == std::vector<std::string>{"0", "1"});
+    std::vector<double> w{1.0};
+    CHECK_THROWS_AS(run->sum(w), RankFailure);
 }
 
 int main(int argc, char** argv) {

@@ -142,3 +142,11 @@ TEST_CASE("rank_devices: the usual spec dealt over the node, a per-rank spec as 
     CHECK(e.rfind("rank 1: ", 0) == 0);
     CHECK(e.find("no device 9") != std::string::npos);
 }
+
+TEST_CASE("rank_devices: a per-rank clause 'none' gives the rank no device; 'none' is no term of the usual spec") {
+    const auto devices = node();
+    CHECK(rank_devices(devices, "rank0=gpu;rank1=none", {1, 2, 1, 2}).empty());
+    CHECK(rank_devices(devices, "rank0=gpu;rank1=none", {0, 2, 0, 2}) == Indices{0, 1});
+    CHECK(rank_devices(devices, "rank0=0;*=none", {3, 4, 1, 2}).empty());
+    CHECK_THROWS_AS(rank_devices(devices, "none", {0, 2, 0, 2}), DeviceSelectionError);
+}

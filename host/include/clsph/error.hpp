@@ -66,4 +66,17 @@ public:
     using Error::Error;
 };
 
+// Across MPI ranks (clsph/ranks.hpp): another rank gave up the step (a device of its failed, say),
+// so this rank gave up its own rather than wait for that rank's messages. rank() is the rank that
+// gave up first; the message is "rank R of N: " and that rank's error. After it (or a DeviceError
+// given up), every rank calls recover() (clsph/ranks.hpp) before the ranks run anything together.
+class RankFailure : public Error {
+public:
+    RankFailure(int rank, const std::string& message) : Error(message), rank_(rank) {}
+    int rank() const noexcept { return rank_; }
+
+private:
+    int rank_;
+};
+
 }  // namespace clsph

@@ -30,6 +30,17 @@ std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine);  //
 // Every rank's, in rank order, on rank `root` only (empty on the others): what one rank writes.
 std::vector<std::string> gather_text_to(Ranks& ranks, const std::string& mine, int root);
 
+// Going on after a rank's device failed (clsph run --on-device-failure continue across ranks).
+// A rank that cannot finish a step calls give_up with its error: every other rank's wait in that
+// step (a collective, a link to a slab of another rank) then throws RankFailure (clsph/error.hpp)
+// instead of waiting for it. The engine gives up by itself when a device fails inside a step; a
+// program gives up for failures of its own between steps (a frame's download, say). Then every
+// rank calls recover, once, in step with the others: the ranks go on over fresh communicators
+// (what the given-up step left in flight meets nothing of what follows); the Simulations made
+// before must not step again, and a new one (from a checkpoint, on the devices left) takes over.
+void give_up(Ranks& ranks, const std::string& why);
+void recover(Ranks& ranks);
+
 // Stops every rank after an error on this one (MPI_Abort), printing `message` with the rank, so
 // the others do not wait for its messages forever. Without MPI: prints and exits with `code`.
 [[noreturn]] void abort_all(const Ranks& ranks, int code, const std::string& message);

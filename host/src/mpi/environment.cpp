@@ -62,6 +62,7 @@ void Environment::start(int* argc, char*** argv) {
     try {
         check(MPI_Comm_dup(MPI_COMM_WORLD, &world_), "MPI_Comm_dup", "clsph's copy of MPI_COMM_WORLD");
         check(MPI_Comm_set_errhandler(world_, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
+        check(MPI_Comm_dup(world_, &base_), "MPI_Comm_dup", "clsph's base communicator");
         check(MPI_Comm_split_type(world_, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node_), "MPI_Comm_split_type",
               "the ranks of this node");
         check(MPI_Comm_set_errhandler(node_, MPI_ERRORS_RETURN), "MPI_Comm_set_errhandler");
@@ -70,6 +71,7 @@ void Environment::start(int* argc, char*** argv) {
         check(MPI_Comm_rank(node_, &place_.local_rank), "MPI_Comm_rank", "on this node");
         check(MPI_Comm_size(node_, &place_.local_size), "MPI_Comm_size", "on this node");
     } catch (...) {
+        if (base_ != MPI_COMM_NULL) MPI_Comm_free(&base_);
         if (node_ != MPI_COMM_NULL) MPI_Comm_free(&node_);
         if (world_ != MPI_COMM_NULL) MPI_Comm_free(&world_);
         if (owns_) MPI_Finalize();
@@ -80,8 +82,9 @@ void Environment::start(int* argc, char*** argv) {
 Environment::~Environment() {
     // Freeing a communicator is collective in name only (it does not wait for the other ranks);
     // MPI_Finalize does, which is why a rank that failed calls abort() instead of returning.
+    if (base_ != MPI_COMM_NULL) MPI_Comm_free(&base_);
     if (node_ != MPI_COMM_NULL) MPI_Comm_free(&node_);
-    if (world_ != MPI_COMM_NULL) MPI_Comm_free(&world_);
+    if (world_ != MPI_COMM_NULL && !keep_world_) MPI_Comm_free(&world_);
     int finalized = 0;
     MPI_Finalized(&finalized);
     if (owns_ && !finalized) MPI_Finalize();

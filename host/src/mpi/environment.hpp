@@ -44,13 +44,19 @@ public:
     // ranks of this node; both return errors (MPI_ERRORS_RETURN).
     MPI_Comm comm() const { return world_; }
     MPI_Comm node() const { return node_; }
+    // Another copy of MPI_COMM_WORLD that nothing talks on: only duplicated, by every rank in
+    // the same order, for communicators that must start clean (Ranks::recover after a failure,
+    // when the others may hold a given-up step's collectives).
+    MPI_Comm base() const { return base_; }
+    // comm() is not freed at the end: a given-up step may have left collectives on it (mpi/alarm.hpp).
+    void keep_comm() { keep_world_ = true; }
     // Whether this Environment initialised MPI (and so finalises it).
     bool owns_mpi() const { return owns_; }
 
 private:
     void start(int* argc, char*** argv);
-    bool owns_ = false;
-    MPI_Comm world_ = MPI_COMM_NULL, node_ = MPI_COMM_NULL;
+    bool owns_ = false, keep_world_ = false;
+    MPI_Comm world_ = MPI_COMM_NULL, node_ = MPI_COMM_NULL, base_ = MPI_COMM_NULL;
     multi::RankPlace place_;
 };
 

@@ -91,6 +91,7 @@ void MpiSendLink::send(const ParticleArrays& src, std::size_t first, std::size_t
 void MpiSendLink::post() {
     if (posted_) return;
     read_.wait(what() + ": reading them into pinned memory");
+    if (channel_.alarm) channel_.alarm->check();  // a given-up step sends nothing more
     mpi::isend_bytes(staging_->data(), n_ * ParticleArrays::kBytesPerParticle, channel_.chunk_bytes, channel_.peer,
                      payload_tag(channel_), channel_.comm, requests_, what());
     posted_ = true;
@@ -98,7 +99,7 @@ void MpiSendLink::post() {
 
 void MpiSendLink::wait() {
     post();
-    mpi::wait_all(requests_, what());
+    mpi::wait_all(requests_, what(), channel_.alarm);
 }
 
 // ---- the receiver's half ----
@@ -119,7 +120,7 @@ MpiReceiveLink::~MpiReceiveLink() {
     }
     if (std::uncaught_exceptions() == 0) {
         try {
-            mpi::wait_all(requests_, what());
+            mpi::wait_all(requests_, what(), channel_.alarm);
             writing_.wait(what() + ": writing them into the device");
             return;
         } catch (const std::exception&) {
@@ -149,7 +150,7 @@ void MpiReceiveLink::post() {
 std::size_t MpiReceiveLink::wait_count() {
     if (state_ == State::payload_posted) return n_;
     post();
-    mpi::wait_all(requests_, what());
+    mpi::wait_all(requests_, what(), channel_.alarm);
     constexpr std::uint64_t kMost = std::numeric_limits<std::size_t>::max() / ParticleArrays::kBytesPerParticle;
     if (count_message_ > kMost)
         throw Error("receiving particles from rank " + std::to_string(channel_.peer) + " over link " +
@@ -167,7 +168,7 @@ std::size_t MpiReceiveLink::wait_count() {
 
 void MpiReceiveLink::receive(ParticleArrays& dst, std::size_t to, cl_rt::EventSet& received) {
     wait_count();
-    mpi::wait_all(requests_, what());
+    mpi::wait_all(requests_, what(), channel_.alarm);
     state_ = State::idle;
     const std::size_t capacity = dst.capacity();
     if (to > capacity || n_ > capacity - to)

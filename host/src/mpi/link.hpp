@@ -37,6 +37,9 @@ struct MpiChannel {
     int peer = 0;
     int link = 0;
     std::size_t chunk_bytes = mpi::kDefaultChunk;
+    // The run's alarm (mpi/alarm.hpp): the waits throw RankFailure once a rank has given up the
+    // step. Null: they wait as long as it takes.
+    mpi::Alarm* alarm = nullptr;
 };
 
 class MpiSendLink {

@@ -68,8 +68,9 @@ bool test_all(std::vector<MPI_Request>& requests, const std::string& what) {
     return done != 0;
 }
 
-void wait_all(std::vector<MPI_Request>& requests, const std::string& what) {
+void wait_all(std::vector<MPI_Request>& requests, const std::string& what, Alarm* alarm) {
     for (int looks = 0; !test_all(requests, what); ++looks) {
+        if (alarm) alarm->check();
         if (looks < 64) std::this_thread::yield();
         else std::this_thread::sleep_for(std::chrono::microseconds(20));
     }

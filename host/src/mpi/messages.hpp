@@ -5,6 +5,8 @@
 // messages on one communicator and tag, so the receiver's chunks (the same cut, from the same
 // byte count and chunk size) match them one for one.
 #pragma once
+#include "mpi/alarm.hpp"
+
 #include <mpi.h>
 
 #include <cstddef>
@@ -31,8 +33,10 @@ void irecv_bytes(void* data, std::size_t bytes, std::size_t chunk, int peer, int
 bool test_all(std::vector<MPI_Request>& requests, const std::string& what);
 // Blocks until every request has completed; `requests` is empty afterwards. Polls MPI_Testall,
 // yielding at first and then sleeping 20 us between looks (MPI_Waitall spins a core, which the
-// devices' threads and a CPU device need), so MPI makes progress only while we look.
-void wait_all(std::vector<MPI_Request>& requests, const std::string& what);
+// devices' threads and a CPU device need), so MPI makes progress only while we look. With an
+// `alarm`, each look also looks at it: once it has gone off (a rank gave up the step) the wait
+// throws RankFailure, leaving the requests in flight to the caller (`requests` as it was).
+void wait_all(std::vector<MPI_Request>& requests, const std::string& what, Alarm* alarm = nullptr);
 
 // The largest tag the communicator allows (MPI_TAG_UB, at least 32767).
 int tag_limit(MPI_Comm comm);

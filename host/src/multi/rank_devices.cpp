@@ -114,6 +114,7 @@ std::vector<std::size_t> rank_devices(const std::vector<DeviceInfo>& devices, co
                                       const RankPlace& place) {
     const bool per_rank = is_per_rank_spec(spec);
     const std::string own = per_rank ? spec_for_rank(spec, place.rank) : spec;
+    if (per_rank && own == "none") return {};  // the rank takes part without slabs
     std::vector<std::size_t> selected;
     try {
         selected = select_devices(devices, own);

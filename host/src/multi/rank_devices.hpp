@@ -9,7 +9,8 @@
 //         rank0=gpu;rank1=cpu             rank 0 the node's GPUs, rank 1 its CPU devices
 //         rank0=0;rank1-3=platform:pocl   ranges of ranks share a clause
 //         rank0=gpu;*=cpu                 '*': every rank no other clause names
-//     Right of '=' is the usual grammar. Ranks are MPI_COMM_WORLD ranks; the devices a clause
+//     Right of '=' is the usual grammar, or 'none': the rank drives no device and takes part in
+//     the run without slabs (what a rank whose devices all failed goes on with). Ranks are MPI_COMM_WORLD ranks; the devices a clause
 //     selects are that rank's as they are (not dealt), so two ranks on one node that select the
 //     same device share it. ';' and '=' appear in no term of the usual grammar, so a spec is
 //     per-rank exactly when it contains '='.
@@ -46,7 +47,7 @@ bool is_per_rank_spec(const std::string& spec);
 std::string spec_for_rank(const std::string& spec, int rank);
 
 // This rank's devices (indices into `devices`, the node's list): a per-rank spec's clause
-// selected as it is, or the usual spec's selection dealt by deal_devices. Errors as
+// selected as it is (none for 'none'), or the usual spec's selection dealt by deal_devices. Errors as
 // select_devices, with the rank named.
 std::vector<std::size_t> rank_devices(const std::vector<DeviceInfo>& devices, const std::string& spec,
                                       const RankPlace& place);

@@ -23,6 +23,8 @@ std::vector<std::string> gather_text(Ranks& ranks, const std::string& mine) { re
 std::vector<std::string> gather_text_to(Ranks& ranks, const std::string& mine, int root) {
     return ranks.gather_text_to(mine, root);
 }
+void give_up(Ranks& ranks, const std::string& why) { ranks.give_up(why); }
+void recover(Ranks& ranks) { ranks.recover(); }
 void abort_all(const Ranks& ranks, int code, const std::string& message) {
     ranks.abort(code, message);
     std::abort();  // not reached (Ranks::abort does not return); says so to the compiler, which cannot see through the virtual call

@@ -29,7 +29,7 @@ public:
     // Every rank's text, in rank order (any lengths).
     virtual std::vector<std::string> gather_text(const std::string& mine) = 0;
     // Every rank's text on rank `root` only, in rank order (any lengths); empty on the others.
-    virtual std::vector<std::string> gather_text_to(const std::string& mine, int root) = 0;
+    virtual std::vector<std::string> gather_text_to(std::string mine, int root) = 0;
     // Rank `root`'s `v` on every rank (the same length on every rank).
     virtual void broadcast(std::vector<std::uint64_t>& v, int root) = 0;
 
@@ -39,6 +39,15 @@ public:
     virtual std::unique_ptr<multi::RemoteReceiveLink> receiver(cl_rt::Device& device, int peer, int link) = 0;
 
     [[noreturn]] virtual void abort(int code, const std::string& message) const = 0;
+
+    // This rank cannot finish the step (`why`: its error): every wait of the run, on every rank,
+    // throws RankFailure from now on instead of waiting for it (mpi/alarm.hpp). Once per failure;
+    // later calls do nothing.
+    virtual void give_up(const std::string& why) = 0;
+    // After a failure, on every rank (collective): fresh communicators and a fresh alarm for
+    // this Ranks, so that what the given-up step left in flight meets nothing of what follows.
+    // The Ranks forked before (the failed run's) keep the old ones, which stay gone off.
+    virtual void recover() = 0;
 
     // The same ranks on a communicator of their own (collective: every rank calls it, in the same
     // order): each Simulation's links and collectives then never meet another's, whose messages

@@ -13,13 +13,19 @@ namespace clsph::multi {
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : partition_(grid),
+      options_(options),
+      params_(device::make_sph_params(scene)),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, &p, nullptr);
 }
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const scene::LatticePlan& plan, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : partition_(grid),
+      options_(options),
+      params_(device::make_sph_params(scene)),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, nullptr, &plan);
 }
 
@@ -186,7 +192,7 @@ StepOutcome SlabDriver::start() {
 }
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
-StepOutcome SlabDriver::step(double dt, double time) {
+StepOutcome SlabDriver::step_here(double dt, double time) {
     apply_seams();                                 // tests: forced cuts
     drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
@@ -365,31 +371,6 @@ void SlabDriver::read_force_times() {
     for (std::size_t d = 0; d < slabs_.size(); ++d)
         if (here(d)) slabs_[d].force_seconds = slabs_[d].force_timer->seconds();
     if (across_ranks()) gather_figures();
-}
-
-void SlabDriver::for_each_device(const PerDevice& work) {
-    // One thread suffices where at most one device has anything to do (a GPU next to an idle CPU):
-    // handing work to the other threads would only add their wake-ups to every phase.
-    if (across_ranks()) {  // this rank's slabs, each on its own thread where it has several
-        std::vector<std::size_t> mine;
-        for (std::size_t d = 0; d < slabs_.size(); ++d)
-            if (here(d)) mine.push_back(d);
-        if (mine.size() == 1 || options_.seams.serialize_devices) {
-            for (auto d : mine) work(d);
-            return;
-        }
-        if (!threads_) threads_ = std::make_unique<DeviceThreads>(mine.size());
-        threads_->run([&](std::size_t k) { work(mine[k]); });
-        return;
-    }
-    std::size_t busy = 0;
-    for (const auto& s : slabs_) busy += s.busy();
-    if (slabs_.size() == 1 || options_.seams.serialize_devices || busy <= 1) {
-        for (std::size_t d = 0; d < slabs_.size(); ++d) work(d);
-        return;
-    }
-    if (!threads_) threads_ = std::make_unique<DeviceThreads>(slabs_.size());
-    threads_->run(work);
 }
 
 }  // namespace clsph::multi

@@ -77,7 +77,7 @@ public:
     // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
     // the host sums each step.)
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && !bodies_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+        return slabs_.size() == 1 && !across_ranks() && !bodies_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
                                                                slabs_[0].physics->has_clock(),
                                                                slabs_[0].physics->symplectic());
     }
@@ -102,11 +102,7 @@ public:
     RigidBodies* rigid_bodies() { return bodies_.get(); }
     const RigidBodies* rigid_bodies() const { return bodies_.get(); }
 
-    const SphParams& params() const {  // the same on every slab: this rank's first
-        for (std::size_t d = 0; d < slabs_.size(); ++d)
-            if (here(d)) return slabs_[d].physics->params();
-        return slabs_.front().physics->params();
-    }
+    const SphParams& params() const { return params_; }  // the same on every slab
     // Every slab of the run; across ranks only this rank's have a device (here(d)).
     std::vector<Slab>& slabs() { return slabs_; }
     bool here(std::size_t d) const { return ranks_.here(d); }
@@ -119,6 +115,7 @@ public:
     const PhaseTotals& phase_seconds() const { return phases_; }
 
 private:
+    StepOutcome step_here(double dt, double time);
     void set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* particles,
                 const scene::LatticePlan* plan);
     void for_each_device(const PerDevice& work);
@@ -156,6 +153,7 @@ private:
     std::vector<SlabFigures> figures_;
     void gather_figures();
     PhaseTotals phases_;
+    SphParams params_{};  // the scene's (device/physics.hpp), also on a rank without slabs
     std::uint64_t steps_ = 0;
     bool symplectic_ = false;
     std::size_t removed_at_upload_ = 0;

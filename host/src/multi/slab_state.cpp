@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstring>
 #include <unordered_map>
+#include <utility>
 
 namespace clsph::multi {
 namespace {
@@ -79,7 +80,7 @@ void SlabDriver::save_owned(Checkpoint& c) {
     }
     struct Part { const char* at; std::uint64_t n; };
     std::vector<Part> parts(slabs_.size(), Part{nullptr, 0});
-    const auto all = ranks_.ranks->gather_text_to(mine, 0);
+    const auto all = ranks_.ranks->gather_text_to(std::move(mine), 0);
     if (ranks_.rank != 0) return;
     for (const auto& r : all)
         for (std::size_t k = 0; k + 16 <= r.size();) {

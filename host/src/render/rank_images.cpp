@@ -4,6 +4,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 
 namespace clsph::render {
 namespace {
@@ -49,7 +50,7 @@ SlabImages<Image> gather(Ranks& ranks, const SlabImages<Image>& mine) {
         put(bytes, im);
     }
     SlabImages<Image> all;
-    for (const auto& part : ranks.gather_text_to(bytes, 0))
+    for (const auto& part : ranks.gather_text_to(std::move(bytes), 0))
         for (multi::ByteReader in(part, "images"); !in.done();) {
             const auto slab = static_cast<std::size_t>(in.word());
             Image im;

@@ -88,7 +88,8 @@ ChainDevices chain_devices(const std::string& spec, const cl_rt::OpenOptions& op
         c.end = c.devices.size();
         return c;
     }
-    const auto all = ranks->gather_text(encode(cl_rt::selected_infos(rank_spec(spec, *ranks), open)));
+    const std::string mine = rank_spec(spec, *ranks);  // empty: this rank drives none ('rankN=none')
+    const auto all = ranks->gather_text(encode(mine.empty() ? std::vector<DeviceInfo>{} : cl_rt::selected_infos(mine, open)));
     for (std::size_t r = 0; r < all.size(); ++r) {
         const auto infos = decode(all[r]);
         if (static_cast<int>(r) == ranks->rank()) {

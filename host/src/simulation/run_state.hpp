@@ -26,7 +26,7 @@ struct RunState {
         info.fluid = k.kick.fluid;
         info.kinetic_energy = k.kick.kinetic_energy;
         info.max_speed = std::sqrt(k.kick.max_speed2);
-        info.cells = driver.slabs().size() == 1 ? driver.slabs()[0].cells->cells() : 0;
+        info.cells = driver.slabs().size() == 1 && driver.here(0) ? driver.slabs()[0].cells->cells() : 0;
     }
     void restore(const Checkpoint& c) {
         info.step = c.step;

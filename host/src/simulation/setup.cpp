@@ -105,7 +105,7 @@ Opened open(const Scene& scene, const device::Grid& grid, const Options& options
     // per-rank spec).
     if (options.ranks) spec = rank_spec(spec, *options.ranks);
     Opened o;
-    o.devices = cl_rt::open_devices(spec, open);
+    if (!options.ranks || !spec.empty()) o.devices = cl_rt::open_devices(spec, open);  // across ranks a rank may drive none
     std::vector<cl_rt::Device*> devs;
     for (auto& d : o.devices) {
         d->profiler().enable(options.profile);
