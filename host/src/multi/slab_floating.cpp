@@ -1,13 +1,13 @@
 // Floating bodies in the slab driver's step (multi/rigid_bodies.hpp): the host integrates each body
 // from the fluid's force summed over every device and rank in fixed point (the same bits on any
 // device count), and puts the bodies' poses into every device's motion table before the solids
-// are moved (kernels/motion.cl type 7).
+// are moved (kernels/motion.cl type 7). With mDBC on several devices, the cuts kept where every
+// slab holds the fluid its body particles' ghost nodes read.
 #include "multi/slab_driver.hpp"
 
 #include "device/floating_table.hpp"
 #include "device/motion_table.hpp"
 #include "scene/floating.hpp"
-#include "shared.h"
 
 namespace clsph::multi {
 
@@ -76,8 +76,8 @@ void SlabDriver::set_up_body_cuts(const Scene& scene, const Particles& at_rest, 
 // The body particles and their ghost-node offsets where the bodies' last poses put them, and the
 // cuts that restrict_body_cuts allows for them (a margin of one column: a body moves far less in a
 // step, Symplectic's two passes included); with `move_cuts`, the present cuts moved off any it
-// forbids (not before the first cuts are set). Every rank
-// holds the same bodies, so every rank computes the same cuts.
+// forbids (not before the first cuts are set). Every rank holds the same bodies, so every rank
+// computes the same cuts.
 void SlabDriver::keep_cuts_off_bodies(bool move_cuts) {
     if (body_ghosts_.empty()) return;
     const auto& states = bodies_->states();
