@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -61,6 +62,26 @@ TEST_CASE("mpirun -np 2 clsph run: the pieces hold every particle once, bitwise 
         CHECK(cli_test::read_text(across + f) == cli_test::read_text(one + f));
     }
     CHECK(!fs::exists(across + "/frame_00001_p1.csv"));
+}
+
+TEST_CASE("mpirun -np 2 clsph run with a floating box: body_box.csv and run.json's bodies byte for byte one process's") {
+    // scenes/floating_box.json with shallower water, as the CLI suite's floating test; mDBC walls.
+    const std::string floating = std::string(CLSPH_SOURCE_DIR) + "/scenes/floating_box.json";
+    const std::vector<std::string> shallow = {"--set", "fluid[0].max=[0.8,0.125,0.1]", "--set", "boundaries.boxes[0].min=[0.32,0,0.2]",
+                                              "--set", "boundaries.boxes[0].max=[0.48,0.12,0.32]"};
+    const std::string across = work_dir("mpi_floating_across"), one = work_dir("mpi_floating_one");
+    const std::vector<std::string> common = join({"run", floating}, join(shallow, {"--steps", "20", "--every", "100"}));
+    std::string log;
+    const int code = run_program(CLSPH_MPIEXEC, mpi_args(join(common, {"--out", across})), log);
+    INFO(log);
+    REQUIRE(code == 0);
+    std::string log1;
+    REQUIRE(run_program(CLSPH_CLI, join(common, {"--out", one, "--devices", "0,1", "--no-checkpoint"}), log1) == 0);
+    const std::string rows = cli_test::read_text(across + "/body_box.csv");
+    CHECK(std::count(rows.begin(), rows.end(), '\n') == 22);  // the header, the start and a row a step
+    CHECK(rows == cli_test::read_text(one + "/body_box.csv"));
+    CHECK(read_json(across + "/run.json").at("bodies") == read_json(one + "/run.json").at("bodies"));
+    CHECK(cli_test::read_text(across + "/stats.csv") == cli_test::read_text(one + "/stats.csv"));
 }
 
 TEST_CASE("across ranks: a checkpoint at the end, and clsph resume across the ranks goes on bitwise") {

@@ -6,7 +6,8 @@
 // A checkpoint taken across the ranks holds every slab in slab order on rank 0 only (the same file
 // as one process writes when the cuts are the same; the other ranks' hold no particles), and a run
 // restarted from it across the ranks goes on bitwise.
-// A moving solid (issue 32) crosses the rank boundary the same way.
+// A moving solid (issue 32) crosses the rank boundary the same way, and a floating box's state
+// (summed over the ranks) is the same on every rank and as in one process, checkpoint included.
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>
 
@@ -105,7 +106,36 @@ long differing(const State& a, const State& b) {
     return n;
 }
 
+bool same_bodies(const std::vector<BodySample>& a, const std::vector<BodySample>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].position != b[i].position || a[i].quaternion != b[i].quaternion || a[i].velocity != b[i].velocity ||
+            a[i].angular_velocity != b[i].angular_velocity || a[i].force != b[i].force || a[i].torque != b[i].torque)
+            return false;
+    return true;
+}
+
+// Every rank's floating bodies the same as rank 0's (bit for bit: their doubles as bytes).
+bool bodies_agree(const std::vector<BodySample>& mine) {
+    std::vector<double> w;
+    for (const auto& b : mine) {
+        w.insert(w.end(), b.position.begin(), b.position.end());
+        w.insert(w.end(), b.quaternion.begin(), b.quaternion.end());
+        w.insert(w.end(), b.velocity.begin(), b.velocity.end());
+        w.insert(w.end(), b.angular_velocity.begin(), b.angular_velocity.end());
+        w.insert(w.end(), b.force.begin(), b.force.end());
+        w.insert(w.end(), b.torque.begin(), b.torque.end());
+    }
+    std::vector<double> first = w;
+    MPI_Bcast(first.data(), static_cast<int>(first.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    int same = std::memcmp(first.data(), w.data(), sizeof(double) * w.size()) == 0 ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    return same == 1;
+}
+
 // The scene on N ranks, then in one process on the node's N devices (rank 0), `steps` steps each.
+// Floating bodies: their states the same on every rank and as in one process, in the checkpoint
+// too, and after the restart.
 // With `same_cuts` (the cuts forced alike), their checkpoints must be the same too, array for array.
 void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust, bool same_cuts = false) {
     const int rank = rank_of(*ranks);
@@ -128,6 +158,10 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
     CHECK(spread.size() == across.info().particles);
     const Checkpoint saved = across.checkpoint();  // every rank's slabs, on rank 0 only
     CHECK(saved.size() == (rank == 0 ? across.info().particles : 0));
+    if (scene.has_floating()) {
+        CHECK(bodies_agree(across.bodies()));
+        CHECK(saved.bodies.size() == across.bodies().size() * 44u);  // BodyState::kDoubles, on every rank
+    }
     if (rank == 0) {
         Options one;
         adjust(one);
@@ -140,6 +174,8 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
         const long d = differing(local_state(sim), spread);
         INFO("particles differing in any bit (-1: the ids differ): " << d);
         CHECK(d == 0);
+        CHECK(same_bodies(sim.bodies(), across.bodies()));
+        if (scene.has_floating()) CHECK(sim.checkpoint().bodies == saved.bodies);
         if (same_cuts) {
             const Checkpoint one_saved = sim.checkpoint();
             CHECK(one_saved.counts == saved.counts);
@@ -165,6 +201,7 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
         again.step();
     }
     CHECK(again.time() == across.time());
+    CHECK(same_bodies(again.bodies(), across.bodies()));
     std::size_t dup_on = 0;
     const long restarted = differing(gather_state(again, dup_again), gather_state(across, dup_on));
     INFO("after the restart, particles differing in any bit (-1: the ids differ): " << restarted);
@@ -213,6 +250,35 @@ TEST_CASE("a moving solid across the rank boundary: bitwise the run in one proce
         seams.cut_schedule = test::sweeping_cuts(static_cast<std::size_t>(ranks_in(*ranks)));
         testing::set_seams(o, seams);
     }, true);
+}
+
+TEST_CASE("a floating box across the rank boundary: bitwise the run in one process, its state, checkpoint and restart") {
+    // A thin tank (a slice periodic in y) with a light box released above its rest draft; its force
+    // and moments are summed over both ranks (fixed point). With DBC walls the cuts sweep across the
+    // box (its particles on both ranks); with mDBC walls they keep off its ghost nodes' reach.
+    for (const std::string method : {"dbc", "mdbc"}) {
+        CAPTURE(method);
+        const Scene s = Scene::from_json_text(std::string(R"({
+  "physics": {"dp": 0.02, "hdp": 1.5, "coefsound": 10, "alpha": 0.1, "alpha_wall": 0.3, "gravity": [0, 0, -9.81]},
+  "domain": {"min": [-0.06, 0, -0.06], "max": [0.56, 0.18, 0.4], "periodic": [false, true, false], "split_axis": "x"},
+  "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.17, 0.2]}],
+  "boundaries": {
+    "method": ")") + method + R"(",
+    "walls": [{"min": [0, 0, 0], "max": [0.5, 0.16, 0.4], "faces": ["x-", "x+", "z-"], "layers": 2}],
+    "boxes": [{"min": [0.20, 0, 0.18], "max": [0.30, 0.16, 0.28], "layers": 0,
+               "floating": {"density": 500, "name": "light", "free_translation": [true, false, true],
+                            "free_rotation": [false, true, false]}}]
+  }
+})",
+                                              "floating tank");
+        // 30 steps: the cuts then split the tank on 2 and on 3 ranks alike (the mDBC cuts keep to
+        // two columns, beside the end walls).
+        compare(s, 30, [](Options& o) {
+            testing::Seams seams;
+            seams.cut_schedule = test::sweeping_cuts(static_cast<std::size_t>(ranks_in(*ranks)));
+            testing::set_seams(o, seams);
+        }, true);
+    }
 }
 
 int main(int argc, char** argv) {

@@ -72,6 +72,19 @@ TEST_CASE("a floating box: read, written back the same, its mass, centre and ine
     CHECK(gback.to_json() == g.to_json());
 }
 
+TEST_CASE("a floating box takes mDBC walls by default, as every scene does; dbc stays selectable") {
+    std::string doc = scene_with(R"({"density": 500})");
+    doc.erase(doc.find(",\n    \"method\""), std::string(",\n    \"method\": \"dbc\"").size());
+    const clsph::Scene def = clsph::Scene::from_json_text(doc, "tank.json");
+    CHECK(def.boundary_method == clsph::BoundaryMethod::mdbc);
+    CHECK(def.physics.alpha_wall == doctest::Approx(0.3));
+    CHECK(def.notes.empty());
+    CHECK(clsph::Scene::from_json_text(scene_with(R"({"density": 500})", "", "mdbc"), "tank.json").boundary_method ==
+          clsph::BoundaryMethod::mdbc);
+    CHECK(clsph::Scene::from_json_text(scene_with(R"({"density": 500})"), "tank.json").boundary_method ==
+          clsph::BoundaryMethod::dbc);
+}
+
 TEST_CASE("bad floating bodies are errors naming the file and the key") {
     auto error = [](const std::string& floating, const std::string& extra = "", const std::string& method = "dbc", int layers = 0) {
         return error_of([&] { (void)clsph::Scene::from_json_text(scene_with(floating, extra, method, layers), "tank.json"); });
@@ -88,7 +101,6 @@ TEST_CASE("bad floating bodies are errors naming the file and the key") {
     CHECK(error(R"({"density": 500, "spin": 1})").find("boundaries.boxes[0].floating") != std::string::npos);
     CHECK(error(R"({"density": 500})", R"(, "motion": {"segments": [{"type": "linear", "start": 0, "end": 1, "velocity": [1, 0, 0]}]})")
               .find("boundaries.boxes[0].floating: a floating solid cannot have a prescribed motion too") != std::string::npos);
-    CHECK(error(R"({"density": 500})", "", "mdbc").find("boundaries.method: floating bodies need \"dbc\"") != std::string::npos);
     // Touching the tank's floor (z = 0, its first layer of particles) at the box's bottom face.
     {
         clsph::Scene t = clsph::Scene::from_json_text(scene_with(R"({"density": 500})"), "tank.json");

@@ -121,15 +121,13 @@ TEST_CASE("walls by default: mDBC with wall friction; DBC, and a note, for a sce
     const clsph::Scene back = clsph::Scene::from_json_text(plain.to_json(), "back.json");
     CHECK(back.to_json() == plain.to_json());
     CHECK(clsph::Scene::from_json_text(dbc.to_json(), "back.json").boundary_method == clsph::BoundaryMethod::dbc);
-    // Floating bodies: DBC when no method is given, with one note naming the key; mdbc is refused.
+    // Floating bodies: mDBC as every scene, no note; dbc selectable.
     const std::string box = R"(, "boxes": [{"min": [0.5, 0.1, 0.2], "max": [0.7, 0.3, 0.3], "layers": 0, "floating": {"density": 500}}])";
     const clsph::Scene floating = scene("", box);
-    CHECK(floating.boundary_method == clsph::BoundaryMethod::dbc);
-    CHECK(floating.physics.alpha_wall == 0.0);
-    REQUIRE(floating.notes.size() == 1);
-    CHECK(floating.notes[0].find("boundaries.method") == 0);
-    CHECK(scene("", box + R"(, "method": "dbc")").notes.empty());
-    CHECK(error_of([&] { scene("", box + R"(, "method": "mdbc")"); }).find("floating bodies need") != std::string::npos);
+    CHECK(floating.boundary_method == clsph::BoundaryMethod::mdbc);
+    CHECK(floating.physics.alpha_wall == clsph::kMdbcWallFriction);
+    CHECK(floating.notes.empty());
+    CHECK(scene("", box + R"(, "method": "dbc")").boundary_method == clsph::BoundaryMethod::dbc);
     CHECK(clsph::Scene::from_json_text(floating.to_json(), "back.json").notes.empty());
 }
 

@@ -135,8 +135,9 @@ TEST_CASE("floating_box: a box of density 500 held above a tank's water, free in
     CHECK(f.density == 500.0);
     CHECK(f.free_translation == std::array<bool, 3>{true, false, true});
     CHECK(f.free_rotation == std::array<bool, 3>{false, true, false});
-    // Floating bodies need DBC walls (docs/scenes.md): the scene says so, so it reads without a note.
-    CHECK(s.boundary_method == clsph::BoundaryMethod::dbc);
+    // The default walls, as every scene: mDBC with its wall friction.
+    CHECK(s.boundary_method == clsph::BoundaryMethod::mdbc);
+    CHECK(s.physics.alpha_wall == clsph::kMdbcWallFriction);
     CHECK(s.notes.empty());
     // The box, filled, spans the periodic slice: 17 x 13 x 13 lattice points, its bottom 0.1 m above the water.
     CHECK(s.solids[0].min[2] - s.fluids[0].max[2] == doctest::Approx(0.1));

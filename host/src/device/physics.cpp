@@ -149,6 +149,7 @@ cl_uint set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline
 
 void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out) {
     const std::size_t n = ps.ranges.owned;
+    floating_summed_ = false;  // the bodies' sums of an earlier pass (the calibration's) are not this one's
     if (n == 0) return;
     const auto g = grid_.params();
     auto launch = [&](const char* name, cl::Kernel& k) {
@@ -180,6 +181,9 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     forces_k_.setArg(a + 2, out.get());
     if (sps_) forces_k_.setArg(a + 3, tau_.get());
     launch("sph.forces", forces_k_);
+    // Floating bodies: the fluid's force on them from the boundary densities the fluid has just
+    // felt, before the mDBC pass replaces those with the next step's.
+    if (floating_bodies_ > 0) enqueue_floating(ps, cells);
     if (mdbc_) boundary_densities(ps, cells);
 }
 

@@ -59,8 +59,10 @@ public:
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
     // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
-    // ps.accel. With mDBC, then the owned boundary particles' densities from their ghost nodes
-    // (kernels/mdbc.cl), in place: the next step's forces use them.
+    // ps.accel. With floating bodies, then the fluid's force on them (enqueue_floating); with
+    // mDBC, then the owned boundary particles' densities from their ghost nodes (kernels/mdbc.cl),
+    // in place: the next step's forces use them (the bodies' force used the same densities as
+    // the fluid's).
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp), at
     // rest; with a motion (set_motion first) the offsets of moving solids turn with them before
@@ -86,9 +88,10 @@ public:
     void move_solids_on_clock(ParticleStore& ps);
     // Floating bodies (kernels/floating.cl; after set_motion with the table add_floating filled):
     // the body particles' table; before each move of the solids the bodies' poses (RigidBodies::
-    // poses) into their rows of the motion table; after a force pass, the fluid's force on the
-    // owned body particles and their fixed-point partial sums enqueued (before the kick changes
-    // velrho), and read, blocking, added into `sums` (12 a body, wrapping: two's complement).
+    // poses) into their rows of the motion table; in each force pass (forces() calls it), the
+    // fluid's force on the owned body particles and their fixed-point partial sums enqueued, and
+    // read, blocking, added into `sums` (12 a body, wrapping: two's complement). The ghost-node
+    // offsets of mDBC turn with a body's orientation (its row's R, turn_ghost_nodes).
     void set_floating(const FloatingTable& table);
     bool floats() const { return floating_bodies_ > 0; }
     void set_floating_poses(const std::vector<std::array<double, 18>>& poses);

@@ -113,6 +113,19 @@ Census Partition::census(const scene::LatticePlan& plan) {
 
 void Partition::restrict_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
                               double support) {
+    fixed_allowed_ = allowed_cuts(p, ghost_offsets, support, 0);
+    cut_allowed_ = fixed_allowed_;
+}
+
+void Partition::restrict_body_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
+                                   double support, std::size_t margin) {
+    cut_allowed_ = allowed_cuts(p, ghost_offsets, support, margin);
+    for (std::size_t k = 0; k < fixed_allowed_.size() && k < cut_allowed_.size(); ++k)
+        cut_allowed_[k] = cut_allowed_[k] && fixed_allowed_[k];
+}
+
+std::vector<char> Partition::allowed_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
+                                          double support, std::size_t margin) const {
     const std::size_t n_col = columns();
     const int s_axis = grid_.axis(0);
     const auto& dom = grid_.domain();
@@ -120,8 +133,8 @@ void Partition::restrict_cuts(const Particles& p, const std::vector<std::array<f
     // Per column, the lowest and highest column any of its boundary particles needs.
     std::vector<std::size_t> lo(n_col), hi(n_col);
     for (std::size_t c = 0; c < n_col; ++c) lo[c] = hi[c] = c;
-    auto column_at = [&](std::array<double, 3> x) {
-        x[s_axis] = std::clamp(x[s_axis], dom.lo[s_axis], dom.hi[s_axis]);
+    auto column_at = [&](std::array<double, 3> x) {  // beyond the domain on another axis: its column still
+        for (int k = 0; k < 3; ++k) x[k] = std::clamp(x[k], dom.lo[k], dom.hi[k]);
         std::array<float, 3> off{};
         const std::uint32_t key = grid_.locate(x, off);
         return key == invalid ? std::size_t{0} : column_of(key);
@@ -138,17 +151,23 @@ void Partition::restrict_cuts(const Particles& p, const std::vector<std::array<f
         auto below = g, above = g;
         below[s_axis] -= support;
         above[s_axis] += support;
-        lo[c] = std::min(lo[c], column_at(below));
-        hi[c] = std::max(hi[c], column_at(above));
-        reach = std::max({reach, c - lo[c], hi[c] - c});
+        // With a margin (a body that moves before the pass), in any column within it of c, and
+        // needing as much further.
+        const std::size_t need_lo = column_at(below), need_hi = column_at(above);
+        for (std::size_t m = c > margin ? c - margin : 0; m <= std::min(n_col - 1, c + margin); ++m) {
+            lo[m] = std::min(lo[m], need_lo > margin ? need_lo - margin : 0);
+            hi[m] = std::max(hi[m], std::min(n_col - 1, need_hi + margin));
+            reach = std::max({reach, m - lo[m], hi[m] - m});
+        }
     }
     // A cut before column k: the slab after it holds from column k - 1, the one before it up to k.
-    cut_allowed_.assign(n_col + 1, 1);
+    std::vector<char> allowed(n_col + 1, 1);
     for (std::size_t k = 1; k < n_col; ++k) {
         const std::size_t from = k > reach + 1 ? k - reach - 1 : 0, to = std::min(n_col, k + reach + 1);
-        for (std::size_t c = from; c < to && cut_allowed_[k]; ++c)
-            if ((c >= k && lo[c] + 1 < k) || (c < k && hi[c] > k)) cut_allowed_[k] = 0;
+        for (std::size_t c = from; c < to && allowed[k]; ++c)
+            if ((c >= k && lo[c] + 1 < k) || (c < k && hi[c] > k)) allowed[k] = 0;
     }
+    return allowed;
 }
 
 std::vector<Particles> Partition::split(const Particles& p, const Census& census, const std::vector<Slab>& slabs) const {

@@ -53,6 +53,11 @@ public:
     // column either side. Cuts are forbidden where a slab would then lack a column one of its
     // boundary particles needs (the balancer is told through ColumnProfile::cut_allowed).
     void restrict_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets, double support);
+    // The same for particles that move where no one knows ahead (floating bodies), every step from
+    // where they are now, with a margin of columns they may move by before their mDBC pass: the
+    // cuts allowed are then those both this and restrict_cuts() allow.
+    void restrict_body_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets, double support,
+                            std::size_t margin);
     const std::vector<char>& cut_allowed() const { return cut_allowed_; }
 
     Census census(const Particles& p);
@@ -68,7 +73,10 @@ public:
 private:
     const device::Grid& grid_;
     std::vector<std::size_t> boundary_per_column_;
-    std::vector<char> cut_allowed_;  // empty: anywhere
+    std::vector<char> cut_allowed_;    // empty: anywhere
+    std::vector<char> fixed_allowed_;  // restrict_cuts()'s (empty: anywhere)
+    std::vector<char> allowed_cuts(const Particles& p, const std::vector<std::array<float, 3>>& ghost_offsets,
+                                   double support, std::size_t margin) const;
     std::size_t halo_ = 1;
 };
 

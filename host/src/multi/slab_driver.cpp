@@ -77,7 +77,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         // of moving solids turn with them: Physics::set_ghost_nodes). Boundaries come first in id
         // order, so a plan's boundary particles alone have the scene's ids. With moving solids, from
         // the scene's particles at rest (a checkpoint's have moved).
-        const bool at_rest = scene.has_motion() && host;
+        const bool at_rest = (scene.has_motion() || scene.has_floating()) && host;
         const Particles boundary = host && !at_rest ? Particles()
                                    : plan ? plan->particles([](const auto&, std::size_t) { return true; }, true)
                                           : scene.build_particles();
@@ -101,6 +101,11 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             census.profile.cut_allowed = partition_.cut_allowed();
         } else if (D > 1) {
             partition_.restrict_cuts(p, offsets, scene.physics.support());
+            census.profile.cut_allowed = partition_.cut_allowed();
+        }
+        if (D > 1 && bodies_) {  // floating bodies: from where they are (multi/slab_floating.cpp)
+            set_up_body_cuts(scene, p, offsets);
+            keep_cuts_off_bodies(false);
             census.profile.cut_allowed = partition_.cut_allowed();
         }
     }
@@ -193,6 +198,7 @@ StepOutcome SlabDriver::start() {
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
 StepOutcome SlabDriver::step_here(double dt, double time) {
+    keep_cuts_off_bodies();                        // mDBC, floating bodies: no cut within their ghost nodes' reach
     apply_seams();                                 // tests: forced cuts
     drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
@@ -289,7 +295,6 @@ void SlabDriver::forces(std::size_t d) {
     if (timed) s.force_timer->begin();
     for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
     if (timed) s.force_timer->end();
-    if (bodies_) s.physics->enqueue_floating(*s.store, *s.cells);  // before the kick changes velrho
     if (options_.seams.serialize_devices) s.device->finish();
 }
 

@@ -137,6 +137,14 @@ private:
     void correct_bodies(double dt, double time);
     void take_body_forces(double dt);
     std::unique_ptr<RigidBodies> bodies_;
+    // mDBC on several devices: each body particle with a ghost node (its body, its offset from the
+    // centre and its ghost-node offset, at rest); every step the cuts are kept where each slab
+    // holds the fluid around its body particles' ghost nodes, from the bodies' present poses.
+    struct BodyGhost { std::size_t body; std::array<double, 3> r0; std::array<float, 3> ghost; };
+    std::vector<BodyGhost> body_ghosts_;
+    double body_support_ = 0;
+    void set_up_body_cuts(const Scene& scene, const Particles& at_rest, const std::vector<std::array<float, 3>>& offsets);
+    void keep_cuts_off_bodies(bool move_cuts = true);
 
     Partition partition_;
     DriverOptions options_;

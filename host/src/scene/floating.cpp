@@ -146,9 +146,6 @@ void check_floating(const Scene& scene) {
         }
         for (const auto& x : mine) others.push_back(lattice_key(x, dp));
     }
-
-    require(scene.boundary_method == BoundaryMethod::dbc, "boundaries.method",
-            "floating bodies need \"dbc\" walls for now (mDBC's ghost nodes do not follow a floating body yet)");
 }
 
 }  // namespace clsph::scene

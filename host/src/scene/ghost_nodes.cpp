@@ -54,11 +54,15 @@ void wall_mirrors(const BoxWalls& w, double dp, Mirrors& out) {
 }
 
 // Solid boxes: the faces whose layers hold the particle and which face open space (the lattice
-// point just beyond the face, opposite the particle, is no boundary particle).
-void solid_mirrors(const SolidBox& b, double dp, const PointHash& boundary, Mirrors& out) {
+// point just beyond the face, opposite the particle, is no boundary particle). A floating box
+// moves away from whatever covers it at rest, so none of its faces counts as covered; and only
+// its particles within a support of a face mirror across it (deeper ones no fluid reaches: they
+// interpolate at themselves, rho0), so that its ghost nodes stay near it wherever it goes.
+void solid_mirrors(const SolidBox& b, double dp, double support, const PointHash& boundary, Mirrors& out) {
     std::vector<Vec3> pts;
     sample_solid(b, dp, pts);
-    const double band = (b.layers > 0 ? b.layers : 1 << 20) * dp - 1e-6 * dp;
+    double band = (b.layers > 0 ? b.layers : 1 << 20) * dp - 1e-6 * dp;
+    if (b.floating.enabled) band = std::min(band, support - 1e-6 * dp);
     for (const auto& x : pts) {
         Vec3 m{0, 0, 0};
         for (int a = 0; a < 3; ++a) {
@@ -68,7 +72,7 @@ void solid_mirrors(const SolidBox& b, double dp, const PointHash& boundary, Mirr
             if (depth >= band) continue;
             Vec3 beyond = x;
             beyond[a] += (min_side ? -1.0 : 1.0) * (depth + dp);
-            if (boundary.any_within(beyond, 1e-3 * dp)) continue;  // covered: no fluid can be there
+            if (!b.floating.enabled && boundary.any_within(beyond, 1e-3 * dp)) continue;  // covered: no fluid can be there
             m[a] = (min_side ? -2.0 : 2.0) * (depth + 0.5 * dp);
         }
         out.add(x, m);
@@ -126,7 +130,7 @@ std::vector<std::array<float, 3>> ghost_node_offsets(const Scene& scene, const P
     for (const auto& w : scene.walls) wall_mirrors(w, dp, mirrors);
     if (!scene.solids.empty()) {
         const PointHash boundary(all, dp);
-        for (const auto& b : scene.solids) solid_mirrors(b, dp, boundary, mirrors);
+        for (const auto& b : scene.solids) solid_mirrors(b, dp, scene.physics.support(), boundary, mirrors);
     }
     for (const auto& m : scene.meshes)
         if (!m.fluid) mesh_mirrors(m, dp, mirrors);

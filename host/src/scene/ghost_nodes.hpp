@@ -6,7 +6,8 @@
 //   walls    each selected face the particle lies beyond; at edges and corners every such face,
 //            so the ghost node mirrors through the edge or the corner
 //   boxes    each face whose layers hold the particle (the nearer of two opposite ones), except
-//            faces covered by other boundary particles (a box standing on a floor)
+//            faces covered by other boundary particles (a box standing on a floor); a floating
+//            box: every face, for its particles within a support of it (none deeper)
 //   meshes   along the direction to the nearest point of the surface (outward), with the
 //            triangle's outward normal for a particle on the surface
 // Pure host geometry: no OpenCL.

@@ -341,20 +341,13 @@ std::string scene_name_for(const std::string& path) {
 
 namespace {
 // The walls of a scene file that does not choose them (docs/scenes.md, boundaries.method): mDBC
-// with wall friction alpha_wall = kMdbcWallFriction unless physics.alpha_wall is given; scenes
-// with floating bodies keep DBC (mDBC's ghost nodes do not follow a floating body yet), and say so.
+// with wall friction alpha_wall = kMdbcWallFriction unless physics.alpha_wall is given.
 void apply_wall_defaults(const Json& doc, Scene& s) {
     auto given = [&](const char* object, const char* key) {
         const auto it = doc.find(object);
         return it != doc.end() && it->is_object() && it->contains(key);
     };
-    if (!given("boundaries", "method")) {
-        s.boundary_method = s.has_floating() ? BoundaryMethod::dbc : BoundaryMethod::mdbc;
-        if (s.has_floating())
-            s.notes.push_back("boundaries.method: the scene has floating bodies, so its walls are \"dbc\" (the "
-                              "default \"mdbc\" does not move its ghost nodes with a floating body yet); give "
-                              "\"method\" to silence this");
-    }
+    if (!given("boundaries", "method")) s.boundary_method = BoundaryMethod::mdbc;
     if (s.boundary_method == BoundaryMethod::mdbc && !given("physics", "alpha_wall"))
         s.physics.alpha_wall = kMdbcWallFriction;
 }
