@@ -2,6 +2,7 @@
 // engine's memory tracker gives it, sized by device/sizing.hpp as the allocation sizes it, and a
 // store growth's moment where the old arrays sit beside the new ones.
 #include "device/memory_model.hpp"
+#include "scene/open_boundaries.hpp"
 #include "device/motion_table.hpp"
 
 #include "device/sizing.hpp"
@@ -297,6 +298,12 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     }
     plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
                          "when the fluid spreads over more cells");
+    plan.planned = scene::planned_with_inlets(scene, census.particles);
+    if (!scene.inlets.empty())
+        plan.notes.push_back("inlets: the stores are planned for " + std::to_string(plan.planned) + " particles (the scene's " +
+                             std::to_string(census.particles) +
+                             ", the inlets' buffers, and as many layers as fill the domain once along each inlet's axis); "
+                             "a run that holds more grows its stores");
     return plan;
 }
 

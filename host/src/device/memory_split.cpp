@@ -4,6 +4,7 @@
 
 #include "balance/balancer.hpp"
 #include "device/sizing.hpp"
+#include "scene/open_boundaries.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -59,7 +60,8 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
         s.columns = end - first;
         // A store too small grows (sizing::grown_capacity); at the upload or the generation nothing
         // is kept: the old arrays go first, one allocation.
-        s.capacity = device::sizing::slab_capacity(total, D, headroom);
+        // With inlets the count grows: planned for what they may add (scene/open_boundaries.hpp).
+        s.capacity = device::sizing::slab_capacity(static_cast<std::size_t>(scene::planned_with_inlets(scene, total)), D, headroom);
         if (D == 1) {
             s.owned = total;
             s.active = in_columns(0, columns);

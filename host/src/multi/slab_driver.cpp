@@ -13,13 +13,19 @@ namespace clsph::multi {
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : feed_(scene, p.size() == 0 ? 0 : 1 + *std::max_element(p.id.begin(), p.id.end())),
+      partition_(grid),
+      options_(options),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, &p, nullptr);
 }
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const scene::LatticePlan& plan, const DriverOptions& options)
-    : partition_(grid), options_(options), symplectic_(scene.physics.integrator == Integrator::symplectic) {
+    : feed_(scene, plan.count()),
+      partition_(grid),
+      options_(options),
+      symplectic_(scene.physics.integrator == Integrator::symplectic) {
     set_up(devices, scene, nullptr, &plan);
 }
 
@@ -42,7 +48,10 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
         }
     }
-    const std::size_t total = host ? host->size() : static_cast<std::size_t>(plan->count());
+    if (options_.inlet_state) feed_.restore(*options_.inlet_state);
+    // With inlets the count grows: the stores start with room for what the memory plan plans for.
+    const std::size_t total = static_cast<std::size_t>(
+        scene::planned_with_inlets(scene, host ? host->size() : static_cast<std::size_t>(plan->count())));
     auto say = [&](const std::string& line) {
         if (options_.progress) options_.progress(line);
     };
@@ -64,6 +73,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.cells->set_cell_headroom(options_.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
+        if (!scene.inlets.empty()) s.inlets = std::make_unique<device::InletZones>(*s.device, grid, scene);
     }
     set_up_motion(scene);  // moving and floating solids (multi/slab_floating.cpp)
     if (scene.boundary_method == BoundaryMethod::mdbc) {
@@ -174,13 +184,17 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
 
 StepOutcome SlabDriver::start() {
     cl_rt::EventSet kicked;
-    const std::size_t removed = exchange_->run([&](std::size_t d) {
-        forces(d);
-        kick(d, 0.0, kicked);  // dt = 0: the checks, the reductions and a_0 into accel
-    });
+    const Particles* made = created_by(options_.start_time);  // inlets: their buffers, on a new run
+    const std::size_t removed = exchange_->run(
+        [&](std::size_t d) {
+            forces(d);
+            kick(d, 0.0, kicked);  // dt = 0: the checks, the reductions and a_0 into accel
+        },
+        made);
     StepOutcome out = reductions(kicked);
     take_body_forces(0.0);
     out.removed = removed_at_upload_ + removed;
+    out.created = made ? made->size() : 0;
     read_force_times();
     return out;
 }
@@ -193,6 +207,7 @@ StepOutcome SlabDriver::step(double dt, double time) {
         rebalance();                               // cuts from the last step's force times, while the devices drift
     cl_rt::EventSet kicked;
     std::size_t removed = 0;
+    const Particles* made = nullptr;
     if (symplectic_) {                             // Symplectic: the predictor was the drift;
         removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
             forces(d);
@@ -204,17 +219,25 @@ StepOutcome SlabDriver::step(double dt, double time) {
             kick(d, 0.0, kicked);
         });
     } else {
+        made = created_by(time + dt);              // inlets: the layers due by the step's end
         removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
             forces(d);                             // once on each device's thread: the force pass,
             kick(d, dt, kicked);                   // the second kick and its reductions
-        });
+        }, made);
     }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
     take_body_forces(symplectic_ ? 0.0 : dt);      // floating bodies: the kick (Symplectic: the new accelerations)
     out.removed = removed;
+    out.created = made ? made->size() : 0;
     read_force_times();                            // the balancer's input for the next step
     ++steps_;
     return out;
+}
+
+const Particles* SlabDriver::created_by(double time) {
+    if (feed_.empty()) return nullptr;
+    created_ = feed_.due(time);
+    return created_.size() > 0 ? &created_ : nullptr;
 }
 
 void SlabDriver::apply_seams() {
@@ -283,6 +306,7 @@ void SlabDriver::forces(std::size_t d) {
     if (timed) s.force_timer->begin();
     for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
     if (timed) s.force_timer->end();
+    if (s.inlets) s.inlets->impose(*s.store);  // inlet buffers: their velocity, before the kick
     if (bodies_) s.physics->enqueue_floating(*s.store, *s.cells);  // before the kick changes velrho
     if (options_.seams.serialize_devices) s.device->finish();
 }

@@ -295,6 +295,28 @@ void read_probes(const Json& v, Scene& s) {
     });
 }
 
+// Open boundaries (docs/scenes.md, inlets and outlets).
+void read_open_boundaries(const Json* inlets, const Json* outlets, Scene& s) {
+    if (inlets)
+        for_each_element(*inlets, "inlets", [&](const Json& e, const std::string& path) {
+            Fields f(e, path, {"min", "max", "velocity", "surface"});
+            Inlet in;
+            in.min = read_vec3(f.require("min"), f.path_of("min"));
+            in.max = read_vec3(f.require("max"), f.path_of("max"));
+            in.velocity = read_vec3(f.require("velocity"), f.path_of("velocity"));
+            if (const Json* z = f.find("surface"); z && !z->is_null()) in.surface = read_number(*z, f.path_of("surface"));
+            s.inlets.push_back(in);
+        });
+    if (outlets)
+        for_each_element(*outlets, "outlets", [&](const Json& e, const std::string& path) {
+            Fields f(e, path, {"face"});
+            const int face = f.choice("face", -1,
+                                      {{"x-", 0}, {"x+", 1}, {"y-", 2}, {"y+", 3}, {"z-", 4}, {"z+", 5}});
+            if (face < 0) key_error(f.path_of("face"), "required: one of \"x-\", \"x+\", \"y-\", \"y+\", \"z-\", \"z+\"");
+            s.outlets.push_back(Outlet{face / 2, face % 2 == 1});
+        });
+}
+
 RunControl read_run(const Json& v) {
     Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction"});
     RunControl r;
@@ -361,7 +383,7 @@ void apply_wall_defaults(const Json& doc, Scene& s) {
 }  // namespace
 
 Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
-    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run", "render"});
+    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "inlets", "outlets", "run", "render"});
     Scene s;
     s.name = top.text("name", origin.default_name);
     s.physics = read_physics(top.require("physics"));
@@ -372,6 +394,7 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
         for_each_element(*fluid, "fluid", [&](const Json& e, const std::string& path) { s.fluids.push_back(read_fluid(e, path)); });
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
+    read_open_boundaries(top.find("inlets"), top.find("outlets"), s);
     if (const Json* r = top.find("render")) s.render = read_render(*r);
 
     apply_wall_defaults(doc, s);
