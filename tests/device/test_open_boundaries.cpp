@@ -7,6 +7,7 @@
 // resumes bitwise.
 #include "clsph/checkpoint.hpp"
 #include "clsph/simulation.hpp"
+#include "support/scenes.hpp"
 #include "support/test_devices.hpp"
 
 #include <doctest/doctest.h>
@@ -23,35 +24,8 @@ using namespace clsph;
 
 namespace {
 
-constexpr double kDp = 0.02, kSpeed = 0.5;
-
-// x: the inlet's box [0, 4 dp], the water to 0.4 m, the outlet at the domain's x+ face 0.4;
-// y: periodic, 8 dp; z: the water 6 dp deep, free above and below (no gravity).
-Scene channel() {
-    Scene s;
-    s.name = "open channel";
-    s.physics.dp = kDp;
-    s.physics.hdp = 1.3;
-    s.physics.gravity = {0, 0, 0};
-    s.physics.c0 = 10.0;
-    s.domain.min = {0, 0, -0.1};
-    s.domain.max = {0.4, 8 * kDp, 0.2};
-    s.domain.periodic = {false, true, false};
-    s.domain.split_axis = 0;
-    FluidBlock f;
-    f.min = {4 * kDp, 0, 0};
-    f.max = {0.4 - 0.5 * kDp, 7.5 * kDp, 5 * kDp};
-    f.velocity = {kSpeed, 0, 0};
-    s.fluids.push_back(f);
-    Inlet in;
-    in.min = {0, 0, 0};
-    in.max = {4 * kDp, 7.5 * kDp, 5 * kDp};
-    in.velocity = {kSpeed, 0, 0};
-    s.inlets.push_back(in);
-    s.outlets.push_back(Outlet{0, true});
-    s.validate();
-    return s;
-}
+constexpr double kDp = test::kChannelDp, kSpeed = test::kChannelSpeed;
+Scene channel() { return test::open_channel(); }
 
 // Every particle's id appears once.
 void check_unique(Simulation& sim, const char* when) {
