@@ -24,8 +24,8 @@ TEST_CASE("scenes/channel.json: stats.csv counts what the inlet made and the out
     // after about 0.07 s.
     const std::string out = work_dir("channel");
     std::string log;
-    const int code = run(args({{"run", source + "/scenes/channel.json", "--set", "physics.dp=0.02", "--until", "0.25", "--every",
-                                "0.25", "--force", "--out", out}}),
+    const int code = run(args({{"run", source + "/scenes/channel.json", "--devices", "0", "--set", "physics.dp=0.02", "--until", "0.2", "--every",
+                                "0.2", "--force", "--out", out}}),
                          log);
     INFO(log);
     REQUIRE(code == 0);
