@@ -18,7 +18,9 @@ void print_summary(std::ostream& os, const RunTotals& t) {
                   t.outcome.c_str(), t.last.time, static_cast<unsigned long long>(t.steps),
                   format_duration(t.loop_seconds).c_str(), format_duration(t.setup_seconds).c_str(), ms_per_step, rate);
     os << text;
-    os << "  particles: " << t.last.particles << " (" << t.fluid << " fluid), removed " << t.last.removed << '\n';
+    os << "  particles: " << t.last.particles << " (" << t.fluid << " fluid), removed " << t.last.removed;
+    if (t.last.created > 0) os << ", created " << t.last.created << " (inlets)";
+    os << '\n';
     for (std::size_t i = 0; i < t.devices.size(); ++i) os << (i ? "           " : "  devices: ") << t.devices[i] << '\n';
     os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
        << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";

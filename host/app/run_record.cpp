@@ -104,7 +104,7 @@ RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Pr
       writes_(writes) {
     if (!writes_) return;
     if (!identity_.start_time.empty()) started_ = identity_.start_time;
-    const char* stats_header = "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed";
+    const char* stats_header = "step,time,dt,particles,fluid,removed,kinetic_energy,max_speed,created";
     if (resume) {
         resumed_ = true;
         resume_time_ = resume->time;
@@ -130,8 +130,8 @@ RunRecord::RunRecord(std::string dir, RunIdentity identity, const std::vector<Pr
 void RunRecord::step(const StepInfo& s) {
     if (!writes_) return;
     char row[256];
-    std::snprintf(row, sizeof row, "%llu,%.9g,%.6g,%zu,%zu,%zu,%.6g,%.6g\n", static_cast<unsigned long long>(s.step),
-                  s.time, s.dt, s.particles, s.fluid, s.removed, s.kinetic_energy, s.max_speed);
+    std::snprintf(row, sizeof row, "%llu,%.9g,%.6g,%zu,%zu,%zu,%.6g,%.6g,%zu\n", static_cast<unsigned long long>(s.step),
+                  s.time, s.dt, s.particles, s.fluid, s.removed, s.kinetic_energy, s.max_speed, s.created);
     stats_ << row;
     const auto now = std::chrono::steady_clock::now();
     if (now - last_flush_ > std::chrono::seconds(1)) {

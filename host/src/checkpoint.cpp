@@ -14,6 +14,8 @@ namespace clsph {
 namespace {
 
 constexpr char kMagic[8] = {'C', 'L', 'S', 'P', 'H', 'C', 'K', 'P'};
+// The inlets block's first word (write_checkpoint): "INLETS" and two zero bytes, little-endian.
+constexpr std::uint64_t kInletTag = 0x00005354454c4e49ull;
 
 std::uint64_t fnv1a(const unsigned char* p, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -92,6 +94,13 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
         w.put<std::uint64_t>(c.bodies.size());
         w.vec(c.bodies);
     }
+    if (!c.inlet_layers.empty()) {  // inlets only: a tagged block (no body block is that long)
+        w.put<std::uint64_t>(kInletTag);
+        w.put(c.created);
+        w.put(c.inlet_next_id);
+        w.put<std::uint64_t>(c.inlet_layers.size());
+        w.vec(c.inlet_layers);
+    }
     w.put(fnv1a(reinterpret_cast<const unsigned char*>(w.out.data()), w.out.size()));
     const std::string tmp = path + ".tmp";
     {
@@ -148,10 +157,25 @@ Checkpoint read_checkpoint(const std::string& path, const Scene* scene) {
     r.vec(c.velrho, 4 * n);
     r.vec(c.accel, 4 * n);
     r.vec(c.id, n);
-    if (in.size() - r.at > sizeof stored + sizeof(std::uint64_t)) {  // floating bodies' states
+    auto next_is_inlets = [&] {
+        if (in.size() - r.at < sizeof stored + sizeof(std::uint64_t)) return false;
+        std::uint64_t tag;
+        std::memcpy(&tag, in.data() + r.at, sizeof tag);
+        return tag == kInletTag;
+    };
+    if (in.size() - r.at > sizeof stored + sizeof(std::uint64_t) && !next_is_inlets()) {  // floating bodies' states
         const auto m = r.get<std::uint64_t>();
         if (m > (in.size() - r.at) / sizeof(double)) throw CheckpointError(path, stored != computed ? "corrupt (checksum mismatch)" : "truncated");
         r.vec(c.bodies, m);
+    }
+    if (next_is_inlets()) {  // the inlets' feed
+        (void)r.get<std::uint64_t>();
+        c.created = r.get<std::uint64_t>();
+        c.inlet_next_id = r.get<std::uint64_t>();
+        const auto m = r.get<std::uint64_t>();
+        if (m == 0 || m > (in.size() - r.at) / sizeof(std::int64_t))
+            throw CheckpointError(path, stored != computed ? "corrupt (checksum mismatch)" : "truncated");
+        r.vec(c.inlet_layers, m);
     }
     if (in.size() - r.at != sizeof stored)
         throw CheckpointError(path, in.size() - r.at < sizeof stored ? "truncated (no checksum)" : "corrupt (trailing bytes)");

@@ -172,6 +172,7 @@ PYBIND11_MODULE(_clsph, m) {
         .def_readonly("particles", &StepInfo::particles)
         .def_readonly("fluid", &StepInfo::fluid)
         .def_readonly("removed", &StepInfo::removed)
+        .def_readonly("created", &StepInfo::created)
         .def_readonly("kinetic_energy", &StepInfo::kinetic_energy)
         .def_readonly("max_speed", &StepInfo::max_speed)
         .def_readonly("wall_seconds", &StepInfo::wall_seconds)

@@ -19,6 +19,32 @@
 namespace fs = std::filesystem;
 using namespace cli_test;
 
+TEST_CASE("scenes/channel.json: stats.csv counts what the inlet made and the outlet removed") {
+    // dp 0.02: 12 particles a layer, a layer every 0.067 s at 0.3 m/s; the first water leaves at 1 m
+    // after about 0.07 s.
+    const std::string out = work_dir("channel");
+    std::string log;
+    const int code = run(args({{"run", source + "/scenes/channel.json", "--devices", "0", "--set", "physics.dp=0.02", "--until", "0.2", "--every",
+                                "0.2", "--force", "--out", out}}),
+                         log);
+    INFO(log);
+    REQUIRE(code == 0);
+    const auto stats = read_csv_rows(out + "/stats.csv");
+    REQUIRE(stats.size() >= 3);
+    REQUIRE(stats[0].back() == "created");
+    const std::size_t first = std::stoull(stats[1][3]), buffer = std::stoull(stats[1][8]), gone = std::stoull(stats[1][5]);
+    CHECK(buffer == 4 * 12);  // the inlet's box at the start
+    for (std::size_t r = 2; r < stats.size(); ++r) {
+        const std::size_t created = std::stoull(stats[r][8]), removed = std::stoull(stats[r][5]);
+        CHECK(created >= std::stoull(stats[r - 1][8]));
+        CHECK(std::stoull(stats[r][3]) == first + (created - buffer) - (removed - gone));  // the count follows both
+    }
+    const std::size_t made = std::stoull(stats.back()[8]) - buffer;
+    CHECK(made == 12 * static_cast<std::size_t>(std::floor(0.3 * std::stod(stats.back()[1]) / 0.02)));
+    CHECK(std::stoull(stats.back()[5]) > 0);
+    CHECK(log.find("created") != std::string::npos);
+}
+
 TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     const std::string out = work_dir("dam_break");
     // --force clears what an earlier run left and nothing else.
@@ -57,9 +83,10 @@ TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     // stats.csv: a row for the initial state and one per step, ending at --until.
     const auto stats = read_csv_rows(out + "/stats.csv");
     REQUIRE(stats.size() >= 3);
-    CHECK(stats[0] == std::vector<std::string>{"step", "time", "dt", "particles", "fluid", "removed", "kinetic_energy", "max_speed"});
+    CHECK(stats[0] == std::vector<std::string>{"step", "time", "dt", "particles", "fluid", "removed", "kinetic_energy", "max_speed", "created"});
     for (std::size_t r = 1; r < stats.size(); ++r) {
-        REQUIRE(stats[r].size() == 8);
+        REQUIRE(stats[r].size() == 9);
+        CHECK(stats[r][8] == "0");  // no inlet
         CHECK(std::stoull(stats[r][0]) == r - 1);
         CHECK(std::stoull(stats[r][3]) == particles);
     }

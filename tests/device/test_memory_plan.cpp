@@ -356,4 +356,23 @@ TEST_CASE("a device whose buffers would outgrow one allocation runs as several s
     check_prediction(s, test::device_spec(1), o);
 }
 
+TEST_CASE("with inlets the plan says the capacity it plans for, and predicts the stores while particles are made") {
+    // scenes/channel.json at dp 0.02: 48 buffer particles and 12 a layer, a layer every 80 steps or so.
+    const auto path = std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "scenes" / "channel.json";
+    const Scene scene = load_scene(path.string(), {"physics.dp=0.02"});
+    const Particles p = scene.build_particles();
+    std::vector<DeviceInfo> infos;
+    const auto all = list_devices();
+    for (auto i : select_devices(all, spec_of(test::devices().front()))) infos.push_back(all[i]);
+    const MemoryPlan plan = plan_memory(scene, p, infos, Options{});
+    CHECK(plan.particles == p.size());
+    CHECK(plan.planned == p.size() + 48 + 12 * 51);  // the buffer, and 1 m of layers again (0.02 m each)
+    CHECK(std::any_of(plan.notes.begin(), plan.notes.end(),
+                      [&](const std::string& n) { return n.find(std::to_string(plan.planned) + " particles") != std::string::npos; }));
+    CHECK(plan.devices.front().capacity >= plan.planned);
+    Options o;
+    o.synchronous = true;
+    check_prediction(scene, spec_of(test::devices().front()), o, 200);  // not buffer by buffer: the cells grow
+}
+
 }  // TEST_SUITE

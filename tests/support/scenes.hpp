@@ -118,4 +118,36 @@ inline void add_dam_probes(Scene& s) {
     s.probes.push_back(h);
 }
 
+inline constexpr double kChannelDp = 0.02, kChannelSpeed = 0.5;
+
+// An open channel (tests/device/test_open_boundaries.cpp, tests/mpi): a slab of water in zero
+// gravity, periodic across, free above and below, moving at the inlet's speed along the split axis.
+// x: the inlet's box [0, 4 dp], the water to 0.4 m, the outlet at the domain's x+ face 0.4;
+// y: periodic, 8 dp; z: the water 6 dp deep, free above and below (no gravity).
+inline Scene open_channel() {
+    Scene s;
+    s.name = "open channel";
+    s.physics.dp = kChannelDp;
+    s.physics.hdp = 1.3;
+    s.physics.gravity = {0, 0, 0};
+    s.physics.c0 = 10.0;
+    s.domain.min = {0, 0, -0.1};
+    s.domain.max = {0.4, 8 * kChannelDp, 0.2};
+    s.domain.periodic = {false, true, false};
+    s.domain.split_axis = 0;
+    FluidBlock f;
+    f.min = {4 * kChannelDp, 0, 0};
+    f.max = {0.4 - 0.5 * kChannelDp, 7.5 * kChannelDp, 5 * kChannelDp};
+    f.velocity = {kChannelSpeed, 0, 0};
+    s.fluids.push_back(f);
+    Inlet in;
+    in.min = {0, 0, 0};
+    in.max = {4 * kChannelDp, 7.5 * kChannelDp, 5 * kChannelDp};
+    in.velocity = {kChannelSpeed, 0, 0};
+    s.inlets.push_back(in);
+    s.outlets.push_back(Outlet{0, true});
+    s.validate();
+    return s;
+}
+
 }  // namespace clsph::test

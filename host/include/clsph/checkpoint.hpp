@@ -34,6 +34,7 @@ struct Checkpoint {
     std::uint64_t step = 0;
     double time = 0, dt = 0, dt_next = 0;
     std::uint64_t removed = 0, fluid = 0, cells = 0;
+    std::uint64_t created = 0;  // by the inlets (with inlets only; see `inlets`)
     double kinetic_energy = 0, max_speed = 0;
     // The cuts (devices + 1 columns) and each device's owned particles, in slab order.
     std::vector<std::uint64_t> cuts, counts;
@@ -44,6 +45,10 @@ struct Checkpoint {
     // Floating bodies (docs/scenes.md, floating): each body's state in double, body after body
     // (empty without them; the file then has no such block).
     std::vector<double> bodies;
+    // Inlets (docs/scenes.md, inlets): the next id and each inlet's last layer made (empty without
+    // inlets; the file then has no such block).
+    std::uint64_t inlet_next_id = 0;
+    std::vector<std::int64_t> inlet_layers;
     std::size_t size() const { return id.size(); }
 };
 

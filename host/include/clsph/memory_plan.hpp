@@ -47,6 +47,9 @@ struct DeviceMemoryPlan {
 
 struct MemoryPlan {
     std::size_t particles = 0;  // the scene's
+    // The particles the stores are planned for: the scene's, and with inlets what they may add
+    // (their buffers and as many layers as fill the domain once along each inlet's axis).
+    std::size_t planned = 0;
     double dp = 0;              // the scene's physics.dp
     std::vector<DeviceMemoryPlan> devices;  // one per slab: a device of several slabs appears in a row
     // Caveats of this prediction for this run (several devices: the split is estimated, ...).

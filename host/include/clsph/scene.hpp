@@ -185,6 +185,24 @@ struct Probe {
     double size = 0.009;          // m, the sensor's diameter (with a normal)
 };
 
+// Open boundaries (docs/scenes.md, inlets and outlets).
+// An inlet is a box of buffer particles moving with `velocity` (m/s, along one axis only): the
+// fluid particles in the box are given that velocity every step; the box's upstream face (along
+// the velocity) gets a new layer of particles each time the layers have moved one dp, with ids
+// from a counter every device and rank holds alike (multi/inlets.hpp). The new particles are in
+// hydrostatic equilibrium below `surface` (default: the box's top).
+struct Inlet {
+    Vec3 min{0, 0, 0}, max{0, 0, 0};
+    Vec3 velocity{0, 0, 0};
+    std::optional<double> surface;
+};
+// An outlet is a face of the domain ("x+", "x-", ...) through which fluid leaves: particles past
+// it are removed (and counted in StepInfo::removed), as past any face without walls.
+struct Outlet {
+    int axis = 0;       // 0 = x, 1 = y, 2 = z
+    bool upper = true;  // the max face (true) or the min face
+};
+
 struct RunControl {
     double end_time = 1.0;       // simulated seconds
     double output_every = 0.01;  // simulated seconds between output frames
@@ -219,6 +237,8 @@ struct Scene {
     std::vector<MeshObject> meshes;
     BoundaryMethod boundary_method = BoundaryMethod::dbc;  // JSON: boundaries.method (files: mdbc, see below)
     std::vector<Probe> probes;
+    std::vector<Inlet> inlets;
+    std::vector<Outlet> outlets;
     RunControl run;
     RenderSettings render;
     // What a scene file left out and its reader chose in its place, for the user to read (clsph run

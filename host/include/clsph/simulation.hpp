@@ -40,7 +40,8 @@ struct StepInfo {
     double dt = 0.0;           // the step just taken (s)
     std::size_t particles = 0;
     std::size_t fluid = 0;
-    std::size_t removed = 0;   // particles removed so far (left the domain)
+    std::size_t removed = 0;   // particles removed so far (left the domain: outlets, open faces)
+    std::size_t created = 0;   // particles created so far (inlets: docs/scenes.md)
     double kinetic_energy = 0.0;  // J, fluid particles
     double max_speed = 0.0;    // m/s
     std::size_t cells = 0;     // non-empty grid cells after the step (one device; several: 0)

@@ -2,6 +2,7 @@
 // engine's memory tracker gives it, sized by device/sizing.hpp as the allocation sizes it, and a
 // store growth's moment where the old arrays sit beside the new ones.
 #include "device/memory_model.hpp"
+#include "scene/open_boundaries.hpp"
 #include "device/motion_table.hpp"
 
 #include "device/sizing.hpp"
@@ -198,6 +199,8 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
             add("probe sums (fixed)", c.probe_points * 2 * sizeof(float), false);
         }
     }
+    // device/inlet_zones.cpp: each inlet's box and velocity.
+    if (!c.scene.inlets.empty()) add("inlet boxes", c.scene.inlets.size() * 9 * sizeof(float), false);
     if (c.ahead) {
         add("step records", c.options.steps_ahead * sz::kStepRecordDoubles * sizeof(double), false);
     }
@@ -250,7 +253,7 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     const std::size_t D = std::max<std::size_t>(devices.size(), 1);
     const std::vector<Share> shares = split_shares(scene, census, D, options);
     // The step ahead as Simulation decides it (multi/slab_driver.hpp can_step_ahead()).
-    const bool ahead = !devices.empty() &&
+    const bool ahead = !devices.empty() && scene.inlets.empty() &&  // inlets: synchronous steps
                        sz::step_ahead(options.synchronous, options.steps_ahead, D, devices[0].fp64,
                                       scene.physics.integrator == Integrator::symplectic);
     const Context c{scene,
@@ -297,6 +300,12 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     }
     plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
                          "when the fluid spreads over more cells");
+    plan.planned = scene::planned_with_inlets(scene, census.particles);
+    if (!scene.inlets.empty())
+        plan.notes.push_back("inlets: the stores are planned for " + std::to_string(plan.planned) + " particles (the scene's " +
+                             std::to_string(census.particles) +
+                             ", the inlets' buffers, and as many layers as fill the domain once along each inlet's axis); "
+                             "a run that holds more grows its stores");
     return plan;
 }
 

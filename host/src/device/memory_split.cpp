@@ -4,6 +4,7 @@
 
 #include "balance/balancer.hpp"
 #include "device/sizing.hpp"
+#include "scene/open_boundaries.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -52,6 +53,23 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
         }
         cuts = balance::Balancer(D, columns, bo).initial_cuts(profile);
     }
+    // Inlets: the first exchange takes their buffers into the inboxes of the slabs needing their
+    // columns (multi/exchange.cpp), per column as the feed makes them (scene/open_boundaries.hpp).
+    std::vector<std::size_t> buffer_per_column(columns, 0);
+    if (!scene.inlets.empty()) {
+        const device::Grid grid = grid_of(scene);
+        const Particles buffer = scene::InletFeed(scene, 0).due(0.0);
+        for (const auto& x : buffer.position) {
+            std::array<float, 3> off{};
+            const std::uint32_t key = grid.locate(x, off);
+            if (key != grid.params().invalid_key) ++buffer_per_column[grid.cell_of_key(key)[0]];
+        }
+    }
+    auto buffer_in = [&](std::size_t c0, std::size_t c1) {
+        std::size_t n = 0;
+        for (std::size_t c = c0; c < std::min(c1, columns); ++c) n += buffer_per_column[c];
+        return n;
+    };
     const double headroom = options.capacity_headroom;
     for (std::size_t d = 0; d < D; ++d) {
         Share& s = shares[d];
@@ -59,12 +77,14 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
         s.columns = end - first;
         // A store too small grows (sizing::grown_capacity); at the upload or the generation nothing
         // is kept: the old arrays go first, one allocation.
-        s.capacity = device::sizing::slab_capacity(total, D, headroom);
+        // With inlets the count grows: planned for what they may add (scene/open_boundaries.hpp).
+        s.capacity = device::sizing::slab_capacity(static_cast<std::size_t>(scene::planned_with_inlets(scene, total)), D, headroom);
         if (D == 1) {
             s.owned = total;
             s.active = in_columns(0, columns);
             s.cells = cells_in(0, columns);
-            s.outbox = s.inbox = device::sizing::box_capacity(0);  // the boxes exist on one slab too
+            s.outbox = device::sizing::box_capacity(0);  // the boxes exist on one slab too
+            s.inbox = device::sizing::box_capacity(buffer_in(0, columns));
             continue;
         }
         // partition.cpp split(): particles outside the domain go to slab 0 with the host's upload.
@@ -102,7 +122,7 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
             arrivals += in_columns(end, g1);
         }
         s.outbox = device::sizing::box_capacity(out);
-        s.inbox = device::sizing::box_capacity(arrivals);
+        s.inbox = device::sizing::box_capacity(arrivals + buffer_in(g0, g1));
         // Each exchange (exchange.cpp plan(), send(), receive_and_merge()) holds what the store had
         // and the arrivals, keeping the sorted particles: the first (SlabDriver::start) the owned
         // particles, the next ones the ghosts too, dropped at the merge. On slabs of 4 columns or

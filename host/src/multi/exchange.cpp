@@ -4,6 +4,9 @@
 #include <algorithm>
 
 namespace clsph::multi {
+namespace {
+bool ranges_hold(const device::KeyRange& k, std::uint32_t key) { return key >= k.lo && key < k.hi; }
+}  // namespace
 
 Exchange::Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEachDevice for_each_device,
                    cl_rt::EventSet::Mode wait, PhaseTotals& phases, bool always_wide, RankMap ranks)
@@ -49,9 +52,22 @@ std::size_t Exchange::sort_uploaded() {
     return removed;
 }
 
-std::size_t Exchange::run(const PerDevice& then) {
+std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
     const std::size_t D = slabs_.size();
     need_ = partition_.needs(slabs_);
+    created_ = created && created->size() > 0 ? created : nullptr;
+    created_for_.assign(D, {});
+    if (created_) {  // each device the new particles in the columns it needs, in their order
+        const device::Grid& grid = partition_.grid();
+        for (std::size_t i = 0; i < created_->size(); ++i) {
+            std::array<float, 3> off{};
+            const std::uint32_t key = grid.locate(created_->position[i], off);
+            for (std::size_t e = 0; e < D; ++e) {
+                const device::KeyRange k = partition_.keys_of(need_[e]);
+                if (ranges_hold(k, key) && ranks_.here(e)) created_for_[e].push_back(i);
+            }
+        }
+    }
     std::vector<Block> blocks;
     std::vector<char> presorted(D, 0);
     settle_and_gather(false, blocks, presorted);
@@ -88,7 +104,7 @@ std::size_t Exchange::run(const PerDevice& then) {
     }
     std::vector<Plan> plans(D);
     for (std::size_t e = 0; e < D; ++e)
-        if (ranks_.here(e)) plans[e] = plan(e, presorted[e], from_left[e], from_right[e]);
+        if (ranks_.here(e)) plans[e] = plan(e, presorted[e], from_left[e], from_right[e], created_for_[e].size());
     send(blocks, plans);
     {
         PhaseTimer t(phases_, "exchange: receive, merge and tables");
@@ -150,15 +166,17 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
     gathered.wait("gathering particles for the neighbouring devices", wait_);
 }
 
-Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right) const {
+Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right,
+                              std::size_t created) const {
     const Slab& s = slabs_[e];
     const auto& ps = *s.store;
     Plan p;
     p.held = ps.ranges.active();  // sorted as a whole; ghosts and leavers drop to its end
     p.kept = s.cells->settled().kept;  // of which stay (their keys lie in this device's need)
     p.from_left = from_left;
-    p.from_right = from_right;
-    const std::size_t n = from_left + from_right;
+    p.from_right = from_right + created;  // new particles after the right arrivals
+    const std::size_t n = from_left + p.from_right;
+    if (created > 0) return p;  // anywhere in the slab: one sort of everything (Merge::all)
     if (n == 0 && (p.kept == 0 || presorted)) {
         p.merge = p.kept == 0 ? Merge::empty : Merge::kept_only;
         return p;
@@ -232,6 +250,10 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
             to += got;
             s.received_bytes += got * device::ParticleArrays::kBytesPerParticle;
         }
+    if (!created_for_[e].empty()) {  // inlets' new particles, after every arrival
+        s.inlets->write(s.inbox, to, *created_, created_for_[e]);
+        to += created_for_[e].size();
+    }
     dev.barrier(written);
     const device::KeyRange keys = partition_.keys_of(need_[e]);
     std::size_t valid = 0;

@@ -58,8 +58,12 @@ public:
     // Once, after the first upload: each device sorts what it was given and finds its column
     // positions. Returns the particles removed (outside the domain).
     std::size_t sort_uploaded();
-    // One exchange (see above); returns the particles removed (they left the domain).
-    std::size_t run(const PerDevice& then);
+    // One exchange (see above); returns the particles removed (they left the domain). `created`
+    // (inlets: scene/open_boundaries.hpp; null or empty: none) are new particles every host made
+    // alike: each device takes those in the columns it needs (owned or halo) after its right
+    // arrivals, the order one device gives them too ([held | created] sorted stably), so each
+    // cell lists them last on any device count.
+    std::size_t run(const PerDevice& then, const Particles* created = nullptr);
 
 private:
     struct Block { std::size_t d, e, index, base; };  // sender, receiver, gather block, outbox offset
@@ -69,7 +73,7 @@ private:
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
     };
     void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted);
-    Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right) const;
+    Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
     void send(const std::vector<Block>& blocks, const std::vector<Plan>& plans);
     void receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
@@ -89,6 +93,8 @@ private:
     PhaseTotals& phases_;
     bool always_wide_;  // tests: the jump path every step
     std::vector<Need> need_;
+    const Particles* created_ = nullptr;
+    std::vector<std::vector<std::size_t>> created_for_;  // per slab: indices into *created_
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
     RankMap ranks_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteSendLink>> remote_send_;

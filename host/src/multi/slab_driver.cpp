@@ -13,7 +13,8 @@ namespace clsph::multi {
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const Particles& p, const DriverOptions& options)
-    : partition_(grid),
+    : feed_(scene, p.size() == 0 ? 0 : 1 + *std::max_element(p.id.begin(), p.id.end())),
+      partition_(grid),
       options_(options),
       params_(device::make_sph_params(scene)),
       symplectic_(scene.physics.integrator == Integrator::symplectic) {
@@ -22,7 +23,8 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
 
 SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device::Grid& grid, const Scene& scene,
                        const scene::LatticePlan& plan, const DriverOptions& options)
-    : partition_(grid),
+    : feed_(scene, plan.count()),
+      partition_(grid),
       options_(options),
       params_(device::make_sph_params(scene)),
       symplectic_(scene.physics.integrator == Integrator::symplectic) {
@@ -48,7 +50,10 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
         }
     }
-    const std::size_t total = host ? host->size() : static_cast<std::size_t>(plan->count());
+    if (options_.inlet_state) feed_.restore(*options_.inlet_state);
+    // With inlets the count grows: the stores start with room for what the memory plan plans for.
+    const std::size_t total = static_cast<std::size_t>(
+        scene::planned_with_inlets(scene, host ? host->size() : static_cast<std::size_t>(plan->count())));
     auto say = [&](const std::string& line) {
         if (options_.progress) options_.progress(line);
     };
@@ -70,6 +75,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.cells->set_cell_headroom(options_.cell_headroom);
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
+        if (!scene.inlets.empty()) s.inlets = std::make_unique<device::InletZones>(*s.device, grid, scene);
     }
     set_up_motion(scene);  // moving and floating solids (multi/slab_floating.cpp)
     if (scene.boundary_method == BoundaryMethod::mdbc) {
@@ -185,13 +191,17 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
 
 StepOutcome SlabDriver::start() {
     cl_rt::EventSet kicked;
-    const std::size_t removed = exchange_->run([&](std::size_t d) {
-        forces(d);
-        kick(d, 0.0, kicked);  // dt = 0: the checks, the reductions and a_0 into accel
-    });
+    const Particles* made = created_by(options_.start_time);  // inlets: their buffers, on a new run
+    const std::size_t removed = exchange_->run(
+        [&](std::size_t d) {
+            forces(d);
+            kick(d, 0.0, kicked);  // dt = 0: the checks, the reductions and a_0 into accel
+        },
+        made);
     StepOutcome out = reductions(kicked);
     take_body_forces(0.0);
     out.removed = removed_at_upload_ + removed;
+    out.created = made ? made->size() : 0;
     read_force_times();
     return out;
 }
@@ -205,6 +215,7 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
         rebalance();                               // cuts from the last step's force times, while the devices drift
     cl_rt::EventSet kicked;
     std::size_t removed = 0;
+    const Particles* made = nullptr;
     if (symplectic_) {                             // Symplectic: the predictor was the drift;
         removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
             forces(d);
@@ -216,14 +227,16 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
             kick(d, 0.0, kicked);
         });
     } else {
+        made = created_by(time + dt);              // inlets: the layers due by the step's end
         removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
             forces(d);                             // once on each device's thread: the force pass,
             kick(d, dt, kicked);                   // the second kick and its reductions
-        });
+        }, made);
     }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
     take_body_forces(symplectic_ ? 0.0 : dt);      // floating bodies: the kick (Symplectic: the new accelerations)
     out.removed = removed;
+    out.created = made ? made->size() : 0;
     read_force_times();                            // the balancer's input for the next step
     ++steps_;
     return out;
@@ -295,6 +308,7 @@ void SlabDriver::forces(std::size_t d) {
     if (timed) s.force_timer->begin();
     for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
     if (timed) s.force_timer->end();
+    if (s.inlets) s.inlets->impose(*s.store);  // inlet buffers: their velocity, before the kick
     if (options_.seams.serialize_devices) s.device->finish();
 }
 
@@ -304,53 +318,6 @@ void SlabDriver::kick(std::size_t d, double dt, cl_rt::EventSet& kicked) {
     s.device->flush();
     // While the force pass runs, the profiler (Options::profile) folds in the step's finished launches.
     if (s.device->profiler().enabled()) s.device->profiler().collect_finished();
-}
-
-StepOutcome SlabDriver::reductions(cl_rt::EventSet& kicked) {
-    {
-        PhaseTimer t(phases_, "forces and kick");
-        kicked.wait("the second kick", options_.wait);
-    }
-    StepOutcome out;
-    for (std::size_t d = 0; d < slabs_.size(); ++d) {
-        if (!here(d) || slabs_[d].store->ranges.owned == 0) continue;
-        const auto k = slabs_[d].physics->kick_result();
-        out.kick.max_speed2 = std::max(out.kick.max_speed2, k.max_speed2);
-        out.kick.max_accel2 = std::max(out.kick.max_accel2, k.max_accel2);
-        out.kick.kinetic_energy += k.kinetic_energy;
-        out.kick.fluid += k.fluid;
-        if (k.bad_index >= 0 && out.kick.bad_index < 0) {
-            out.kick.bad_index = k.bad_index;
-            out.bad_slab = d;
-        }
-    }
-    if (across_ranks()) {
-        // Maxima, sums, and the first slab with a bad value (its index there) over every rank.
-        std::vector<double> m{out.kick.max_speed2, out.kick.max_accel2};
-        ranks_.ranks->max(m);
-        std::vector<double> sums{out.kick.kinetic_energy};
-        ranks_.ranks->sum(sums);
-        const std::size_t D = slabs_.size();
-        std::vector<std::uint64_t> counts(1 + 2 * D, 0);
-        counts[0] = static_cast<std::uint64_t>(out.kick.fluid);
-        if (out.kick.bad_index >= 0) {
-            counts[1 + 2 * out.bad_slab] = 1;
-            counts[2 + 2 * out.bad_slab] = static_cast<std::uint64_t>(out.kick.bad_index);
-        }
-        ranks_.ranks->sum(counts);
-        out.kick.max_speed2 = m[0];
-        out.kick.max_accel2 = m[1];
-        out.kick.kinetic_energy = sums[0];
-        out.kick.fluid = static_cast<decltype(out.kick.fluid)>(counts[0]);
-        out.kick.bad_index = -1;
-        for (std::size_t d = 0; d < D; ++d)
-            if (counts[1 + 2 * d]) {
-                out.kick.bad_index = static_cast<decltype(out.kick.bad_index)>(counts[2 + 2 * d]);
-                out.bad_slab = d;
-                break;
-            }
-    }
-    return out;
 }
 
 void SlabDriver::gather_figures() {

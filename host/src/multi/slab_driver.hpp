@@ -22,6 +22,7 @@
 #include "multi/rigid_bodies.hpp"
 #include "multi/slab.hpp"
 #include "scene/lattice_plan.hpp"
+#include "scene/open_boundaries.hpp"
 
 #include <array>
 #include <fstream>
@@ -48,12 +49,17 @@ struct DriverOptions {
     // Several processes (clsph/ranks.hpp): the devices given are this rank's, its slabs follow the
     // slabs of the ranks before it. Null: one process.
     std::shared_ptr<Ranks> ranks;
+    // Inlets (scene/open_boundaries.hpp): where a resumed run's feed stands, and the time of the
+    // first pass (a checkpoint's; 0 for a new run). Null: a new run's.
+    std::optional<scene::InletState> inlet_state;
+    double start_time = 0.0;
 };
 
 struct StepOutcome {
     device::KickResult kick;   // over all devices (bad_index: see bad_slab)
     std::size_t bad_slab = 0;
     std::size_t removed = 0;
+    std::size_t created = 0;  // by the inlets
 };
 
 class SlabDriver {
@@ -77,7 +83,7 @@ public:
     // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
     // the host sums each step.)
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && !across_ranks() && !bodies_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
                                                                slabs_[0].physics->has_clock(),
                                                                slabs_[0].physics->symplectic());
     }
@@ -100,6 +106,8 @@ public:
     void restore_owned(const Checkpoint& c);
     // Floating bodies (multi/slab_floating.cpp; null: none): their state, integrated on the host.
     RigidBodies* rigid_bodies() { return bodies_.get(); }
+    // Inlets: where their feed stands (a checkpoint's part; empty last_layer: no inlet).
+    const scene::InletState& inlet_state() const { return feed_.state(); }
     const RigidBodies* rigid_bodies() const { return bodies_.get(); }
 
     const SphParams& params() const { return params_; }  // the same on every slab
@@ -145,6 +153,10 @@ private:
     double body_support_ = 0;
     void set_up_body_cuts(const Scene& scene, const Particles& at_rest, const std::vector<std::array<float, 3>>& offsets);
     void keep_cuts_off_bodies(bool move_cuts = true);
+    scene::InletFeed feed_;  // inlets: the particles they make (empty: none)
+    // The inlets' particles due by `time` (every host alike), or null when none are.
+    const Particles* created_by(double time);
+    Particles created_;
 
     Partition partition_;
     DriverOptions options_;

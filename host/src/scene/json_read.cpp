@@ -2,6 +2,7 @@
 // clsph/scene.hpp, so the file format and the C++ API cannot disagree about them.
 #include "scene/json_fields.hpp"
 #include "scene/json_motion.hpp"
+#include "scene/json_open.hpp"
 #include "scene/json_scene.hpp"
 #include "scene/mesh_obj.hpp"
 
@@ -354,7 +355,7 @@ void apply_wall_defaults(const Json& doc, Scene& s) {
 }  // namespace
 
 Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
-    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "run", "render"});
+    Fields top(doc, "", {"name", "physics", "domain", "fluid", "boundaries", "probes", "inlets", "outlets", "run", "render"});
     Scene s;
     s.name = top.text("name", origin.default_name);
     s.physics = read_physics(top.require("physics"));
@@ -365,6 +366,7 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
         for_each_element(*fluid, "fluid", [&](const Json& e, const std::string& path) { s.fluids.push_back(read_fluid(e, path)); });
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
+    read_open_boundaries(top.find("inlets"), top.find("outlets"), s);
     if (const Json* r = top.find("render")) s.render = read_render(*r);
 
     apply_wall_defaults(doc, s);

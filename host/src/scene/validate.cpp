@@ -6,6 +6,7 @@
 #include "scene/floating.hpp"
 #include "scene/lattice.hpp"
 #include "scene/mesh_formats.hpp"
+#include "scene/open_boundaries.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -400,6 +401,7 @@ void Scene::validate() const {
         throw SceneError("physics.dp: " + o.str());
     }
     scene::check_floating(*this);
+    scene::check_open_boundaries(*this);
     (void)sound_speed();
 }
 

@@ -22,6 +22,7 @@ struct RunState {
     // The figures of a synchronous step's outcome (or the first pass) on `driver`'s slabs.
     void take(const multi::StepOutcome& k, multi::SlabDriver& driver) {
         info.removed += k.removed;
+        info.created += k.created;
         info.particles = driver.owned();
         info.fluid = k.kick.fluid;
         info.kinetic_energy = k.kick.kinetic_energy;
@@ -33,6 +34,7 @@ struct RunState {
         info.time = c.time;
         info.dt = c.dt;
         info.removed = c.removed;
+        info.created = c.created;
         info.fluid = c.fluid;
         info.kinetic_energy = c.kinetic_energy;
         info.max_speed = c.max_speed;

@@ -79,6 +79,13 @@ multi::DriverOptions driver_options(const Scene& scene, const Options& options, 
     d.ranks = options.ranks;
     // A checkpoint's cuts, which the driver takes when they fit its slab count (every rank's slabs).
     if (c) d.cuts.assign(c->cuts.begin(), c->cuts.end());
+    // Inlets: a checkpoint's feed, so the resumed run makes the same particles with the same ids.
+    if (c && !scene.inlets.empty()) {
+        if (c->inlet_layers.size() != scene.inlets.size())
+            throw CheckpointError("(resume)", "holds no inlet state for the scene's " + std::to_string(scene.inlets.size()) + " inlets");
+        d.inlet_state = scene::InletState{c->inlet_next_id, c->inlet_layers};
+        d.start_time = c->time;
+    }
     return d;
 }
 

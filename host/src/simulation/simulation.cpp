@@ -58,6 +58,9 @@ Checkpoint Simulation::checkpoint() {
     c.dt = info.dt;
     c.dt_next = m.state.dt_next;
     c.removed = info.removed;
+    c.created = info.created;
+    c.inlet_next_id = m.driver.inlet_state().next_id;
+    c.inlet_layers = m.driver.inlet_state().last_layer;
     c.fluid = info.fluid;
     c.cells = info.cells;
     c.kinetic_energy = info.kinetic_energy;
