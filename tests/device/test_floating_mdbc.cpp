@@ -24,27 +24,38 @@
 
 using namespace clsph;
 
-TEST_SUITE("floating") {
-TEST_CASE("mDBC on a floating box: ghost nodes turned and moved with the body, against the CPU, on every device") {
+namespace {
+// A filled floating box of density 500 in an open domain with mDBC walls (dp 0.02, a support of
+// 3 dp), and a small block of fluid far from it (the scene needs fluid; each test adds its own).
+Scene floating_box_scene(const Vec3& min, const Vec3& max, double alpha_wall) {
     Scene s;
     s.physics.dp = 0.02;
-    s.physics.hdp = 1.5;  // a support of 3 dp
+    s.physics.hdp = 1.5;
     s.physics.c0 = 20.0;
+    s.physics.alpha_wall = alpha_wall;
     s.boundary_method = BoundaryMethod::mdbc;
     s.domain.min = {-0.15, -0.15, -0.15};
     s.domain.max = {0.45, 0.35, 0.35};
-    SolidBox b;  // 8 x 7 x 8 lattice points: its centre deeper than a support (3 dp) from every face
-    b.min = {0.06, 0.04, 0.03};
-    b.max = {0.20, 0.16, 0.17};
+    SolidBox b;
+    b.min = min;
+    b.max = max;
     b.layers = 0;
     b.floating.enabled = true;
     b.floating.density = 500;
     s.solids.push_back(b);
-    FluidBlock far;  // the scene needs fluid; the test's own is added below
+    FluidBlock far;
     far.min = {0.36, 0.26, 0.26};
     far.max = {0.4, 0.3, 0.3};
     s.fluids.push_back(far);
     s.validate();
+    return s;
+}
+}  // namespace
+
+TEST_SUITE("floating") {
+TEST_CASE("mDBC on a floating box: ghost nodes turned and moved with the body, against the CPU, on every device") {
+    // 8 x 7 x 8 lattice points: its centre deeper than a support (3 dp) from every face.
+    const Scene s = floating_box_scene({0.06, 0.04, 0.03}, {0.20, 0.16, 0.17}, Scene().physics.alpha_wall);
     const device::Grid grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), 0, {false, false, false},
                             device::reach_for(s.physics.support(), s.physics.dp));
     const Particles built = s.build_particles();
@@ -151,26 +162,8 @@ TEST_SUITE("floating") {
 // densities (given 1030 here, far from what the fluid around gives): a body force from those
 // would not balance.
 TEST_CASE("mDBC on a floating box: its force balances the fluid's, from the densities the fluid felt, on every device") {
-    Scene s;
-    s.physics.dp = 0.02;
-    s.physics.hdp = 1.5;
-    s.physics.c0 = 20.0;
-    s.physics.alpha_wall = 0.3;
-    s.boundary_method = BoundaryMethod::mdbc;
-    s.domain.min = {-0.15, -0.15, -0.15};
-    s.domain.max = {0.45, 0.35, 0.35};
-    SolidBox b;
-    b.min = {0.08, 0.06, 0.06};
-    b.max = {0.16, 0.14, 0.14};
-    b.layers = 0;
-    b.floating.enabled = true;
-    b.floating.density = 500;
-    s.solids.push_back(b);
-    FluidBlock far;
-    far.min = {0.36, 0.26, 0.26};
-    far.max = {0.4, 0.3, 0.3};
-    s.fluids.push_back(far);
-    s.validate();
+    const Scene s = floating_box_scene({0.08, 0.06, 0.06}, {0.16, 0.14, 0.14}, 0.3);
+    const SolidBox& b = s.solids.back();
     const device::Grid grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), 0, {false, false, false},
                             device::reach_for(s.physics.support(), s.physics.dp));
     const Particles built = s.build_particles();

@@ -56,15 +56,6 @@ Scene tank(const std::string& method = "mdbc") {
 using test::differing;
 using test::state_of;
 
-bool same_bodies(const std::vector<BodySample>& a, const std::vector<BodySample>& b) {
-    if (a.size() != b.size()) return false;
-    for (std::size_t i = 0; i < a.size(); ++i)
-        if (a[i].position != b[i].position || a[i].quaternion != b[i].quaternion || a[i].velocity != b[i].velocity ||
-            a[i].angular_velocity != b[i].angular_velocity || a[i].force != b[i].force || a[i].torque != b[i].torque)
-            return false;
-    return true;
-}
-
 }  // namespace
 
 TEST_SUITE("floating") {
@@ -151,7 +142,7 @@ TEST_CASE("checkpoint and resume with the bodies in motion: bitwise the same as 
     for (int i = 0; i < M; ++i) resumed.step();
     std::remove(path.c_str());
     CHECK(straight.time() == resumed.time());
-    CHECK(same_bodies(straight.bodies(), resumed.bodies()));
+    CHECK(test::same_bodies(straight.bodies(), resumed.bodies()));
     CHECK(differing(state_of(straight), state_of(resumed)) == 0);
 }
 }
@@ -189,7 +180,7 @@ TEST_CASE("floating bodies: bitwise the same on 1, 2 and 3 devices while the cut
     for (std::size_t k = 1; k < sims.size(); ++k) {
         CAPTURE(k + 1);
         CHECK(sims[k]->time() == sims[0]->time());
-        CHECK(same_bodies(sims[k]->bodies(), sims[0]->bodies()));
+        CHECK(test::same_bodies(sims[k]->bodies(), sims[0]->bodies()));
         CHECK(differing(state_of(*sims[k]), ref) == 0);
     }
     CHECK(std::abs(sims[0]->bodies()[0].velocity[2]) > 0.01);  // the body moved

@@ -17,6 +17,7 @@
 #include "clsph/ranks.hpp"
 #include "clsph/simulation.hpp"
 #include "clsph/testing.hpp"
+#include "support/bitwise_state.hpp"
 #include "support/cut_schedules.hpp"
 #include "support/scenes.hpp"
 
@@ -107,15 +108,6 @@ long differing(const State& a, const State& b) {
     return n;
 }
 
-bool same_bodies(const std::vector<BodySample>& a, const std::vector<BodySample>& b) {
-    if (a.size() != b.size()) return false;
-    for (std::size_t i = 0; i < a.size(); ++i)
-        if (a[i].position != b[i].position || a[i].quaternion != b[i].quaternion || a[i].velocity != b[i].velocity ||
-            a[i].angular_velocity != b[i].angular_velocity || a[i].force != b[i].force || a[i].torque != b[i].torque)
-            return false;
-    return true;
-}
-
 // Every rank's floating bodies the same as rank 0's (bit for bit: their doubles as bytes).
 bool bodies_agree(const std::vector<BodySample>& mine) {
     std::vector<double> w;
@@ -175,7 +167,7 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
         const long d = differing(local_state(sim), spread);
         INFO("particles differing in any bit (-1: the ids differ): " << d);
         CHECK(d == 0);
-        CHECK(same_bodies(sim.bodies(), across.bodies()));
+        CHECK(test::same_bodies(sim.bodies(), across.bodies()));
         if (scene.has_floating()) CHECK(sim.checkpoint().bodies == saved.bodies);
         if (same_cuts) {
             const Checkpoint one_saved = sim.checkpoint();
@@ -202,7 +194,7 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
         again.step();
     }
     CHECK(again.time() == across.time());
-    CHECK(same_bodies(again.bodies(), across.bodies()));
+    CHECK(test::same_bodies(again.bodies(), across.bodies()));
     std::size_t dup_on = 0;
     const long restarted = differing(gather_state(again, dup_again), gather_state(across, dup_on));
     INFO("after the restart, particles differing in any bit (-1: the ids differ): " << restarted);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
+#include <vector>
 
 namespace clsph::test {
 
@@ -38,6 +39,16 @@ inline long differing(const State& a, const State& b) {
         n += it->second != bytes;
     }
     return n;
+}
+
+// Every body of two runs the same, to the bit: pose, velocities, force and torque.
+inline bool same_bodies(const std::vector<BodySample>& a, const std::vector<BodySample>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i].position != b[i].position || a[i].quaternion != b[i].quaternion || a[i].velocity != b[i].velocity ||
+            a[i].angular_velocity != b[i].angular_velocity || a[i].force != b[i].force || a[i].torque != b[i].torque)
+            return false;
+    return true;
 }
 
 }  // namespace clsph::test
