@@ -45,6 +45,17 @@ State state_of(Simulation& sim) {
     return s;
 }
 
+// The least-squares slope of y against t.
+double slope(const std::vector<double>& t, const std::vector<double>& y) {
+    double mt = 0, my = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) mt += t[i], my += y[i];
+    mt /= static_cast<double>(t.size());
+    my /= static_cast<double>(t.size());
+    double sty = 0, stt = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) sty += (t[i] - mt) * (y[i] - my), stt += (t[i] - mt) * (t[i] - mt);
+    return sty / stt;
+}
+
 }  // namespace
 
 TEST_SUITE("open_boundaries") {
@@ -69,18 +80,9 @@ TEST_CASE("an inlet feeding a channel with an outlet: the outflow settles to the
         }
         REQUIRE(s.particles == at_start + s.created - s.removed);  // nothing lost or made elsewhere
     }
-    auto slope = [&](const std::vector<double>& y) {
-        double mt = 0, my = 0;
-        for (std::size_t i = 0; i < t.size(); ++i) mt += t[i], my += y[i];
-        mt /= static_cast<double>(t.size());
-        my /= static_cast<double>(t.size());
-        double sty = 0, stt = 0;
-        for (std::size_t i = 0; i < t.size(); ++i) sty += (t[i] - mt) * (y[i] - my), stt += (t[i] - mt) * (t[i] - mt);
-        return sty / stt;
-    };
     REQUIRE(t.size() > 100);
     const double inflow = static_cast<double>(per_layer) * kSpeed / kDp;  // particles per second
-    const double q_in = slope(created), q_out = slope(removed);
+    const double q_in = slope(t, created), q_out = slope(t, removed);
     MESSAGE("inflow " << inflow << " particles/s: created " << q_in << ", removed " << q_out << " over t = [" << settle
                       << ", " << end << "] s");
     CHECK(std::abs(q_in - inflow) <= 0.02 * inflow);
@@ -140,16 +142,7 @@ TEST_CASE("a channel started from rest: the outflow settles to the inlet's flow 
         }
     }
     REQUIRE(t.size() > 100);
-    auto slope = [&](const std::vector<double>& y) {
-        double mt = 0, my = 0;
-        for (std::size_t i = 0; i < t.size(); ++i) mt += t[i], my += y[i];
-        mt /= static_cast<double>(t.size());
-        my /= static_cast<double>(t.size());
-        double sty = 0, stt = 0;
-        for (std::size_t i = 0; i < t.size(); ++i) sty += (t[i] - mt) * (y[i] - my), stt += (t[i] - mt) * (t[i] - mt);
-        return sty / stt;
-    };
-    const double q_in = slope(created), q_out = slope(removed);
+    const double q_in = slope(t, created), q_out = slope(t, removed);
     MESSAGE("from rest: inflow " << inflow << " particles/s; created " << q_in << ", removed " << q_out << " over t = ["
                                  << settle << ", " << end << "] s; " << sim.info().step << " steps, "
                                  << sim.info().particles << " particles at the end");
