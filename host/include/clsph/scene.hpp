@@ -223,9 +223,9 @@ struct Outlet {
     bool upper = true;  // the max face (true) or the min face
     bool zone = false;  // min, max below are the zone's
     Vec3 min{0, 0, 0}, max{0, 0, 0};
-    std::optional<double> pressure;  // Pa
-    std::optional<double> level;     // m (the water level, z)
-    TimeSeries level_series;         // (time s, level m) rows; non-empty: the level in time
+    std::optional<double> pressure{};  // Pa
+    std::optional<double> level{};     // m (the water level, z)
+    TimeSeries level_series{};         // (time s, level m) rows; non-empty: the level in time
 };
 
 struct RunControl {
