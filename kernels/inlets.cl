@@ -8,8 +8,17 @@
 // buffer's travel over the step (X(t + dt) - X(t)).
 #include "open_zones.h"
 
-inline bool in_box(const float3 x, __global const float* lo, __global const float* hi) {
-    return x.x >= lo[0] && x.y >= lo[1] && x.z >= lo[2] && x.x < hi[0] && x.y < hi[1] && x.z < hi[2];
+// In the buffer: along the flow from its upstream face (included) to its downstream one (not: a
+// layer there has left); across it the faces included, as the lattice of its section is (within
+// dp / 1000, for a point on a face that float rounds to just outside).
+inline bool in_box(const float3 x, __global const InletBox* b) {
+    const float tol = 1e-3f / b->inv_dp;
+    for (uint k = 0u; k < 3u; ++k) {
+        const float c = component(x, k), lo = b->lo[k], hi = b->hi[k], dir = b->direction[k];
+        const bool in = dir > 0.0f ? c >= lo && c < hi : dir < 0.0f ? c > lo && c <= hi : c >= lo - tol && c <= hi + tol;
+        if (!in) return false;
+    }
+    return true;
 }
 
 __kernel void impose_inlets(const uint first, const uint last, const GridParams g, const uint inlets,
@@ -25,7 +34,7 @@ __kernel void impose_inlets(const uint first, const uint last, const GridParams 
     const float3 x = absolute_position(g, p, key);
     for (uint k = 0u; k < inlets; ++k) {
         __global const InletBox* b = boxes + k;
-        if (!in_box(x, b->lo, b->hi)) continue;
+        if (!in_box(x, b)) continue;
         float factor = 1.0f;
         if (b->axis < 3u) {
             const int c = (int)round((component(x, b->axis) - b->column0) * b->inv_dp);
