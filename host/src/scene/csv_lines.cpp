@@ -22,6 +22,23 @@ bool parse_double(std::string_view s, double& out) {
     return !s.empty() && r.ec == std::errc() && r.ptr == end;
 }
 
+std::string shown(std::string_view field) {
+    static const char* hex = "0123456789abcdef";
+    std::string out;
+    for (std::size_t i = 0; i < field.size() && i < 40; ++i) {
+        const auto c = static_cast<unsigned char>(field[i]);
+        if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    if (field.size() > 40) out += "...";
+    return out;
+}
+
 std::string num(double x) {
     std::ostringstream o;
     o.precision(17);

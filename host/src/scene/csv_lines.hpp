@@ -17,6 +17,9 @@ constexpr double kMaxValue = 1e9;
 std::string_view trim(std::string_view s);
 // The whole of `s` as a number (an optional leading '+'); false for anything else.
 bool parse_double(std::string_view s, double& out);
+// A field as a message quotes it: bytes outside printable ASCII as \xNN (a NUL would end the
+// message's C string), at most 40 characters of it.
+std::string shown(std::string_view field);
 // A number as the messages write it (17 digits: the value read, not a rounding of it).
 std::string num(double x);
 

@@ -94,9 +94,9 @@ MotionCsv read_motion_csv(const std::string& path, const std::string& key) {
         double v[7] = {};
         for (std::size_t k = 0; k < columns; ++k) {
             const std::string where = at + ", column " + std::to_string(k + 1) + " (" + kColumns[k] + ")";
-            if (!csv::parse_double(fields[k], v[k])) fail(where, "\"" + std::string(fields[k]) + "\" is not a number");
-            if (!std::isfinite(v[k])) fail(where, "must be finite, got " + std::string(fields[k]));
-            if (std::abs(v[k]) > csv::kMaxValue) fail(where, "is beyond 1e9 (" + std::string(fields[k]) + ")");
+            if (!csv::parse_double(fields[k], v[k])) fail(where, "\"" + csv::shown(fields[k]) + "\" is not a number");
+            if (!std::isfinite(v[k])) fail(where, "must be finite, got " + csv::shown(fields[k]));
+            if (std::abs(v[k]) > csv::kMaxValue) fail(where, "is beyond 1e9 (" + csv::shown(fields[k]) + ")");
         }
         if (!out.time.empty() && !(v[0] > out.time.back()))
             fail(at + ", column 1 (time)", "times must increase: " + csv::num(v[0]) + " s is not after " + csv::num(out.time.back()) +

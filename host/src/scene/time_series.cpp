@@ -36,13 +36,13 @@ TimeSeries read_series_csv(const std::string& path, const std::string& key, cons
         const char* names[2] = {"time", column.name};
         for (std::size_t k = 0; k < 2; ++k) {
             const std::string where = at + ", column " + std::to_string(k + 1) + " (" + names[k] + ")";
-            if (!csv::parse_double(fields[k], v[k])) lines.fail(where, "\"" + std::string(fields[k]) + "\" is not a number");
-            if (!std::isfinite(v[k])) lines.fail(where, "must be finite, got " + std::string(fields[k]));
-            if (std::abs(v[k]) > csv::kMaxValue) lines.fail(where, "is beyond 1e9 (" + std::string(fields[k]) + ")");
+            if (!csv::parse_double(fields[k], v[k])) lines.fail(where, "\"" + csv::shown(fields[k]) + "\" is not a number");
+            if (!std::isfinite(v[k])) lines.fail(where, "must be finite, got " + csv::shown(fields[k]));
+            if (std::abs(v[k]) > csv::kMaxValue) lines.fail(where, "is beyond 1e9 (" + csv::shown(fields[k]) + ")");
         }
         if (!(v[1] >= column.min))
             lines.fail(at + ", column 2 (" + column.name + ")",
-                       "must be >= " + csv::num(column.min) + unit_text(column) + ", got " + std::string(fields[1]));
+                       "must be >= " + csv::num(column.min) + unit_text(column) + ", got " + csv::shown(fields[1]));
         if (!out.time.empty() && !(v[0] > out.time.back()))
             lines.fail(at + ", column 1 (time)", "times must increase: " + csv::num(v[0]) + " s is not after " +
                                                      csv::num(out.time.back()) + " s (line " + std::to_string(last_line) + ")");
