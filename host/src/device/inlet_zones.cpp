@@ -44,11 +44,12 @@ InletZones::InletZones(cl_rt::Device& device, const Grid& grid, const Scene& sce
     kernel_ = device_.kernel("inlets.cl", "impose_inlets", grid_.kernel_options());
 }
 
-std::size_t InletZones::bytes(const Scene& scene) {
-    if (scene.inlets.empty()) return 0;
+std::vector<std::pair<const char*, std::size_t>> InletZones::buffers(const Scene& scene) {
+    if (scene.inlets.empty()) return {};
     std::size_t factors = 0;
     for (const Inlet& in : scene.inlets) factors += scene::inlet_columns(in, scene.physics.dp).factor.size();
-    return scene.inlets.size() * (sizeof(InletBox) + sizeof(float)) + factors * sizeof(float);
+    const std::size_t n = scene.inlets.size();
+    return {{"inlet boxes", n * sizeof(InletBox)}, {"inlet profiles", factors * sizeof(float)}, {"inlet speeds", n * sizeof(float)}};
 }
 
 void InletZones::impose(ParticleStore& ps, const std::vector<double>& speeds, bool after_forces) {

@@ -11,6 +11,7 @@
 #include "device/particle_store.hpp"
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace clsph::device {
@@ -24,8 +25,9 @@ public:
     void impose(ParticleStore& ps, const std::vector<double>& speeds, bool after_forces);
     // Particles p[which[k]] into dst at [at, at + which.size()) (blocking; accelerations 0).
     void write(ParticleArrays& dst, std::size_t at, const Particles& p, const std::vector<std::size_t>& which);
-    // The device bytes of a scene's inlets (the memory plan).
-    static std::size_t bytes(const Scene& scene);
+    // The buffers a scene's inlets take on each device, by the names they are allocated with (the
+    // memory plan).
+    static std::vector<std::pair<const char*, std::size_t>> buffers(const Scene& scene);
 
 private:
     cl_rt::Device& device_;

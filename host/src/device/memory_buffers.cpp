@@ -202,7 +202,7 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
         }
     }
     // device/inlet_zones.cpp: each inlet's box, direction, speed and profile; device/outlet_zones.cpp.
-    if (!c.scene.inlets.empty()) add("inlet boxes", device::InletZones::bytes(c.scene), false);
+    for (const auto& [name, bytes] : device::InletZones::buffers(c.scene)) add(name, bytes, false);
     if (scene::has_outlet_zones(c.scene)) add("outlet zones", device::OutletZones::bytes(c.scene), false);
     if (c.ahead) {
         add("step records", c.options.steps_ahead * sz::kStepRecordDoubles * sizeof(double), false);
