@@ -8,14 +8,17 @@
 // buffer's travel over the step (X(t + dt) - X(t)).
 #include "open_zones.h"
 
-// In the buffer: along the flow from its upstream face (included) to its downstream one (not: a
-// layer there has left); across it the faces included, as the lattice of its section is (within
-// dp / 1000, for a point on a face that float rounds to just outside).
+// In the buffer: along the flow from its upstream face (included: a new layer may lie on it) to
+// its downstream one (not: a layer there has left); across it the faces included, as the lattice
+// of its section is. Within dp / 1000 at the faces included, for a point on a face that float
+// rounds to just outside.
 inline bool in_box(const float3 x, __global const InletBox* b) {
     const float tol = 1e-3f / b->inv_dp;
     for (uint k = 0u; k < 3u; ++k) {
         const float c = component(x, k), lo = b->lo[k], hi = b->hi[k], dir = b->direction[k];
-        const bool in = dir > 0.0f ? c >= lo && c < hi : dir < 0.0f ? c > lo && c <= hi : c >= lo - tol && c <= hi + tol;
+        const bool in = dir > 0.0f   ? c >= lo - tol && c < hi
+                        : dir < 0.0f ? c > lo && c <= hi + tol
+                                     : c >= lo - tol && c <= hi + tol;
         if (!in) return false;
     }
     return true;
