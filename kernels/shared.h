@@ -57,4 +57,26 @@ typedef struct {
 #define CLSPH_TYPE_BOUNDARY 1u
 #define CLSPH_ID_MASK 0x7fffffffu
 
+// Open boundaries on the devices (docs/scenes.md, inlets and outlets), boxes relative to the
+// domain's min corner. An inlet's box (kernels/inlets.cl, device/inlet_zones.cpp): the buffer's
+// velocity is direction * speed * factor, the factor of the lattice point nearest the particle
+// along the profile's axis (factors[first + k], k = round((x - column0) / dp)).
+typedef struct {
+    clsph_float lo[3], hi[3];     // the box
+    clsph_float direction[3];     // the flow's unit vector
+    clsph_float column0, inv_dp;  // the profile's first lattice coordinate along its axis, 1/dp
+    clsph_uint axis;              // the profile's axis; 3: none (every point at factor 1)
+    clsph_uint columns, first;    // the profile's lattice points and where their factors start
+} InletBox;
+
+// An outlet's zone (kernels/outlets.cl, device/outlet_zones.cpp): fluid past its face `axis`
+// (`upper`: the max face) within its extent across is removed; inside it, with hold 1 the density
+// is `value`, with hold 2 Tait's for the hydrostatic pressure below the level z = `value`.
+typedef struct {
+    clsph_float lo[3], hi[3];
+    clsph_uint axis, upper;
+    clsph_uint hold;  // 0: nothing, 1: a density, 2: a level
+    clsph_float value;
+} OutletZone;
+
 #endif

@@ -281,6 +281,26 @@ TEST_CASE("an inlet and an outlet across the rank boundary: ids unique, bitwise 
     compare(s, 300, [](Options& o) { o.balance = BalanceMode::fixed; }, true);
 }
 
+TEST_CASE("an inlet ramping from a series with a profile, and an outlet zone, across the rank boundary: bitwise the run in one process") {
+    // Every rank computes the speed, the travelled distance and each profile column's layers alike;
+    // the zone's density and removals are per particle (docs/scenes.md, inlets and outlets).
+    Scene s = test::open_channel();
+    Inlet& in = s.inlets[0];
+    in.velocity = {1, 0, 0};
+    in.speed.time = {0.0, 0.04, 0.1};
+    in.speed.value = {0.5, 0.75, 0.35};
+    in.profile.axis = 2;
+    in.profile.points = {{0.0, 0.6}, {0.1, 1.2}};
+    Outlet zone;
+    zone.zone = true;
+    zone.min = {0.3, s.domain.min[1], s.domain.min[2]};
+    zone.max = {0.36, s.domain.max[1], s.domain.max[2]};
+    zone.pressure = 40.0;
+    s.outlets.push_back(zone);
+    s.validate();
+    compare(s, 200, [](Options& o) { o.balance = BalanceMode::fixed; }, true);
+}
+
 int main(int argc, char** argv) {
     try {
         ranks = mpi_ranks(argc, argv);

@@ -186,21 +186,46 @@ struct Probe {
 };
 
 // Open boundaries (docs/scenes.md, inlets and outlets).
-// An inlet is a box of buffer particles moving with `velocity` (m/s, along one axis only): the
-// fluid particles in the box are given that velocity every step; the box's upstream face (along
-// the velocity) gets a new layer of particles each time the layers have moved one dp, with ids
-// from a counter every device and rank holds alike (multi/inlets.hpp). The new particles are in
-// hydrostatic equilibrium below `surface` (default: the box's top).
+// A quantity in time given by rows (time s, value): linear between two rows, the first row's value
+// before it and the last row's after it (an inlet's speed, an outlet's water level).
+struct TimeSeries {
+    std::vector<double> time, value;
+    bool empty() const { return time.empty(); }
+};
+// An inlet is a box of buffer particles moving along one axis (`velocity`: m/s, one non-zero
+// component): the fluid particles in the box are given that velocity every step; the box's
+// upstream face (along the velocity) gets a new layer of particles each time the layers have moved
+// one dp, with ids from a counter every device and rank holds alike (scene/open_boundaries.hpp).
+// The new particles are in hydrostatic equilibrium below `surface` (default: the box's top).
+// With `speed` the speed along the velocity's direction follows those rows (m/s, >= 0; `velocity`
+// then gives only the direction, a unit vector); with a profile each lattice point across the
+// section moves at factor(coordinate) times the speed (linear between the points, the end factors
+// beyond them).
+struct InletProfile {
+    int axis = -1;                              // 0 = x, 1 = y, 2 = z; -1: none (a uniform section)
+    std::vector<std::array<double, 2>> points;  // (coordinate m, factor >= 0), coordinates increasing
+};
 struct Inlet {
     Vec3 min{0, 0, 0}, max{0, 0, 0};
     Vec3 velocity{0, 0, 0};
     std::optional<double> surface;
+    TimeSeries speed;  // empty: |velocity| at all times
+    InletProfile profile;
 };
 // An outlet is a face of the domain ("x+", "x-", ...) through which fluid leaves: particles past
-// it are removed (and counted in StepInfo::removed), as past any face without walls.
+// it are removed (and counted in StepInfo::removed), as past any face without walls. With a zone
+// (`zone`: the box min, max) the face is the zone's side fluid leaves by: fluid particles past
+// that face (within the box's extent across it) are removed and counted, and every step the fluid
+// particles in the box get the density Tait's equation gives for `pressure` (Pa) or for the
+// hydrostatic pressure below `level` (m; `level_series`: in time), when one is given.
 struct Outlet {
     int axis = 0;       // 0 = x, 1 = y, 2 = z
     bool upper = true;  // the max face (true) or the min face
+    bool zone = false;  // min, max below are the zone's
+    Vec3 min{0, 0, 0}, max{0, 0, 0};
+    std::optional<double> pressure{};  // Pa
+    std::optional<double> level{};     // m (the water level, z)
+    TimeSeries level_series{};         // (time s, level m) rows; non-empty: the level in time
 };
 
 struct RunControl {

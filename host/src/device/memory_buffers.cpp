@@ -3,7 +3,9 @@
 // store growth's moment where the old arrays sit beside the new ones.
 #include "device/memory_model.hpp"
 #include "scene/open_boundaries.hpp"
+#include "device/inlet_zones.hpp"
 #include "device/motion_table.hpp"
+#include "device/outlet_zones.hpp"
 
 #include "device/sizing.hpp"
 #include "probes/gauges.hpp"
@@ -199,8 +201,9 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
             add("probe sums (fixed)", c.probe_points * 2 * sizeof(float), false);
         }
     }
-    // device/inlet_zones.cpp: each inlet's box and velocity.
-    if (!c.scene.inlets.empty()) add("inlet boxes", c.scene.inlets.size() * 9 * sizeof(float), false);
+    // device/inlet_zones.cpp: each inlet's box, direction, speed and profile; device/outlet_zones.cpp.
+    for (const auto& [name, bytes] : device::InletZones::buffers(c.scene)) add(name, bytes, false);
+    if (scene::has_outlet_zones(c.scene)) add("outlet zones", device::OutletZones::bytes(c.scene), false);
     if (c.ahead) {
         add("step records", c.options.steps_ahead * sz::kStepRecordDoubles * sizeof(double), false);
     }
@@ -253,7 +256,7 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     const std::size_t D = std::max<std::size_t>(devices.size(), 1);
     const std::vector<Share> shares = split_shares(scene, census, D, options);
     // The step ahead as Simulation decides it (multi/slab_driver.hpp can_step_ahead()).
-    const bool ahead = !devices.empty() && scene.inlets.empty() &&  // inlets: synchronous steps
+    const bool ahead = !devices.empty() && scene.inlets.empty() && !scene::has_outlet_zones(scene) &&  // synchronous steps
                        sz::step_ahead(options.synchronous, options.steps_ahead, D, devices[0].fp64,
                                       scene.physics.integrator == Integrator::symplectic);
     const Context c{scene,

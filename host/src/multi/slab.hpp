@@ -4,6 +4,7 @@
 #include "cl/device.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/inlet_zones.hpp"
+#include "device/outlet_zones.hpp"
 #include "device/particle_arrays.hpp"
 #include "device/particle_store.hpp"
 #include "device/physics.hpp"
@@ -22,6 +23,7 @@ struct Slab {
     std::unique_ptr<device::Physics> physics;
     std::unique_ptr<ForceTimer> force_timer;
     std::unique_ptr<device::InletZones> inlets;  // null: the scene has no inlet
+    std::unique_ptr<device::OutletZones> outlets;  // null: no outlet has a zone
     std::size_t first_col = 0, end_col = 0;  // owned columns [first_col, end_col)
     double force_seconds = 0;                // last step's force pass (the balancer's input)
     std::size_t received_bytes = 0;          // copied in from other devices since the start

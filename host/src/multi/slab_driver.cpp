@@ -51,6 +51,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         }
     }
     if (options_.inlet_state) feed_.restore(*options_.inlet_state);
+    outlet_zones_ = scene::has_outlet_zones(scene);
     // With inlets the count grows: the stores start with room for what the memory plan plans for.
     const std::size_t total = static_cast<std::size_t>(
         scene::planned_with_inlets(scene, host ? host->size() : static_cast<std::size_t>(plan->count())));
@@ -76,6 +77,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         s.physics = std::make_unique<device::Physics>(*s.device, grid, scene, options_.interaction);
         s.force_timer = std::make_unique<ForceTimer>(*s.device);
         if (!scene.inlets.empty()) s.inlets = std::make_unique<device::InletZones>(*s.device, grid, scene);
+        if (outlet_zones_) s.outlets = std::make_unique<device::OutletZones>(*s.device, grid, scene);
     }
     set_up_motion(scene);  // moving and floating solids (multi/slab_floating.cpp)
     if (scene.boundary_method == BoundaryMethod::mdbc) {
@@ -192,6 +194,8 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
 StepOutcome SlabDriver::start() {
     cl_rt::EventSet kicked;
     const Particles* made = created_by(options_.start_time);  // inlets: their buffers, on a new run
+    inlet_speeds_ = feed_.speeds(options_.start_time);
+    outlet_time_ = options_.start_time;
     const std::size_t removed = exchange_->run(
         [&](std::size_t d) {
             forces(d);
@@ -227,7 +231,9 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
             kick(d, 0.0, kicked);
         });
     } else {
-        made = created_by(time + dt);              // inlets: the layers due by the step's end
+        made = created_by(time + dt);              // inlets: the layers due by the step's end,
+        inlet_speeds_ = feed_.speeds(time + dt);   // their speeds then; outlet zones: their level then
+        outlet_time_ = time + dt;
         removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
             forces(d);                             // once on each device's thread: the force pass,
             kick(d, dt, kicked);                   // the second kick and its reductions
@@ -249,14 +255,19 @@ void SlabDriver::apply_seams() {
 
 void SlabDriver::drift(double dt, double time) {
     const auto poses = drift_bodies(dt);  // floating bodies: where their particles go (none: empty)
+    // Inlets whose speed follows a series: their buffers move by exactly X(t + dt) - X(t).
+    const bool ramps = feed_.speeds_vary();
+    if (ramps) inlet_means_ = feed_.mean_speeds(time, dt);
     for_each_device([&](std::size_t d) {
         auto& physics = *slabs_[d].physics;
         if (!poses.empty()) physics.set_floating_poses(poses);
+        if (ramps && slabs_[d].inlets) slabs_[d].inlets->impose(*slabs_[d].store, inlet_means_, false);
         if (symplectic_)
             physics.predict(*slabs_[d].store, dt);
         else
             physics.kick_drift(*slabs_[d].store, dt);
         physics.move_solids(*slabs_[d].store, time, dt, symplectic_ ? 0.5 : 1.0);  // moving solids: at the drift's time
+        if (slabs_[d].outlets) slabs_[d].outlets->remove_past(*slabs_[d].store);  // the settle removes and counts them
         slabs_[d].device->flush();
     });
 }
@@ -308,7 +319,8 @@ void SlabDriver::forces(std::size_t d) {
     if (timed) s.force_timer->begin();
     for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
     if (timed) s.force_timer->end();
-    if (s.inlets) s.inlets->impose(*s.store);  // inlet buffers: their velocity, before the kick
+    if (s.inlets) s.inlets->impose(*s.store, inlet_speeds_, true);  // inlet buffers: their velocity, before the kick
+    if (s.outlets) s.outlets->hold(*s.store, outlet_time_);          // outlet zones: their density
     if (options_.seams.serialize_devices) s.device->finish();
 }
 

@@ -83,7 +83,7 @@ public:
     // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
     // the host sums each step.)
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && !outlet_zones_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
                                                                slabs_[0].physics->has_clock(),
                                                                slabs_[0].physics->symplectic());
     }
@@ -157,6 +157,12 @@ private:
     // The inlets' particles due by `time` (every host alike), or null when none are.
     const Particles* created_by(double time);
     Particles created_;
+    // Inlets: each one's speed at the end of the step (after the force pass) and, where a speed
+    // follows a series, what moves its buffer by its travel over the step (before the drift).
+    std::vector<double> inlet_speeds_, inlet_means_;
+    // Outlet zones (scene/open_boundaries.hpp): the time the force pass's level is for.
+    bool outlet_zones_ = false;
+    double outlet_time_ = 0;
 
     Partition partition_;
     DriverOptions options_;

@@ -366,7 +366,7 @@ Scene scene_from_document(const Json& doc, const DocumentOrigin& origin) {
         for_each_element(*fluid, "fluid", [&](const Json& e, const std::string& path) { s.fluids.push_back(read_fluid(e, path)); });
     if (const Json* b = top.find("boundaries")) read_boundaries(*b, origin.base_dir, s);
     if (const Json* p = top.find("probes")) read_probes(*p, s);
-    read_open_boundaries(top.find("inlets"), top.find("outlets"), s);
+    read_open_boundaries(top.find("inlets"), top.find("outlets"), origin.base_dir, s);
     if (const Json* r = top.find("render")) s.render = read_render(*r);
 
     apply_wall_defaults(doc, s);

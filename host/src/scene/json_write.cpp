@@ -1,6 +1,7 @@
 // Scene -> scene document: every key written, defaults included, so that a run's resolved scene
 // (run.json) says exactly what was simulated and reads back to the same Scene.
 #include "scene/json_motion.hpp"
+#include "scene/json_open.hpp"
 #include "scene/json_scene.hpp"
 
 #include <utility>
@@ -191,24 +192,7 @@ Json scene_to_document(const Scene& s) {
         probes.push_back(j);
     }
     doc["probes"] = probes;
-    // Open boundaries only where there are some: a closed scene's document (and hash) as before.
-    if (!s.inlets.empty()) {
-        Json inlets = Json::array();
-        for (const auto& in : s.inlets) {
-            Json j;
-            j["min"] = vec(in.min);
-            j["max"] = vec(in.max);
-            j["velocity"] = vec(in.velocity);
-            j["surface"] = in.surface ? Json(*in.surface) : Json(nullptr);
-            inlets.push_back(j);
-        }
-        doc["inlets"] = inlets;
-    }
-    if (!s.outlets.empty()) {
-        Json outlets = Json::array();
-        for (const auto& o : s.outlets) outlets.push_back(Json{{"face", std::string(1, "xyz"[o.axis]) + (o.upper ? "+" : "-")}});
-        doc["outlets"] = outlets;
-    }
+    write_open_boundaries(s, doc);  // only where there are some (scene/json_open.cpp)
     Json run;
     run["end_time"] = s.run.end_time;
     run["output_every"] = s.run.output_every;

@@ -1,46 +1,20 @@
 #include "scene/motion_csv.hpp"
 
 #include "clsph/error.hpp"
+#include "scene/csv_lines.hpp"
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <cstring>
-#include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string_view>
 
 namespace clsph::scene {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr std::size_t kMaxLine = 4096;
-constexpr double kMaxValue = 1e9;
 constexpr const char* kColumns[7] = {"time", "x", "y", "z", "rx", "ry", "rz"};
 
 using Mat = std::array<double, 9>;
-
-std::string num(double x) {
-    std::ostringstream o;
-    o.precision(17);
-    o << x;
-    return o.str();
-}
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-    return s;
-}
-
-bool parse_double(std::string_view s, double& out) {
-    if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-    const char* end = s.data() + s.size();
-    const auto r = std::from_chars(s.data(), end, out);
-    return !s.empty() && r.ec == std::errc() && r.ptr == end;
-}
 
 Mat mul(const Mat& a, const Mat& b) {
     Mat c{};
@@ -89,44 +63,17 @@ void axis_angle(const Mat& m, Vec3& axis, double& angle) {
     angle = 2.0 * std::atan2(v, w);
 }
 
-[[noreturn]] void motion_csv_error(const std::string& key, const std::string& path, const std::string& where, const std::string& what) {
-    throw SceneError(key + ": " + path + (where.empty() ? "" : ", " + where) + ": " + what);
-}
-
 }  // namespace
 
 MotionCsv read_motion_csv(const std::string& path, const std::string& key) {
-    auto fail = [&](const std::string& where, const std::string& what) { motion_csv_error(key, path, where, what); };
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("", std::string("cannot open the motion file (") + std::strerror(errno) + ")");
+    csv::Lines lines(path, key, "the motion file");
+    auto fail = [&](const std::string& where, const std::string& what) { lines.fail(where, what); };
     MotionCsv out;
-    std::size_t columns = 0, line_no = 0, last_line = 0;
+    std::size_t columns = 0, last_line = 0;
     bool seen_first = false;
-    std::string line;
-    while (true) {
-        line.clear();
-        // Bounded: a line longer than kMaxLine is refused before it is held whole.
-        char c;
-        bool any = false;
-        while (in.get(c)) {
-            any = true;
-            if (c == '\n') break;
-            line += c;
-            if (line.size() > kMaxLine) fail("line " + std::to_string(line_no + 1), "longer than " + std::to_string(kMaxLine) + " characters");
-        }
-        if (!any) break;
-        ++line_no;
-        const std::string_view text = trim(line);
-        if (text.empty() || text[0] == '#') continue;
-        std::vector<std::string_view> fields;
-        std::size_t from = 0;
-        while (true) {
-            const std::size_t comma = text.find(',', from);
-            fields.push_back(trim(text.substr(from, comma == std::string_view::npos ? std::string_view::npos : comma - from)));
-            if (comma == std::string_view::npos) break;
-            from = comma + 1;
-        }
-        const std::string at = "line " + std::to_string(line_no);
+    std::vector<std::string_view> fields;
+    while (lines.next(fields)) {
+        const std::string at = lines.at();
         if (!seen_first) {
             seen_first = true;
             const char f = fields[0].empty() ? ' ' : fields[0][0];
@@ -147,18 +94,18 @@ MotionCsv read_motion_csv(const std::string& path, const std::string& key) {
         double v[7] = {};
         for (std::size_t k = 0; k < columns; ++k) {
             const std::string where = at + ", column " + std::to_string(k + 1) + " (" + kColumns[k] + ")";
-            if (!parse_double(fields[k], v[k])) fail(where, "\"" + std::string(fields[k]) + "\" is not a number");
-            if (!std::isfinite(v[k])) fail(where, "must be finite, got " + std::string(fields[k]));
-            if (std::abs(v[k]) > kMaxValue) fail(where, "is beyond 1e9 (" + std::string(fields[k]) + ")");
+            if (!csv::parse_double(fields[k], v[k])) fail(where, "\"" + csv::shown(fields[k]) + "\" is not a number");
+            if (!std::isfinite(v[k])) fail(where, "must be finite, got " + csv::shown(fields[k]));
+            if (std::abs(v[k]) > csv::kMaxValue) fail(where, "is beyond 1e9 (" + csv::shown(fields[k]) + ")");
         }
         if (!out.time.empty() && !(v[0] > out.time.back()))
-            fail(at + ", column 1 (time)", "times must increase: " + num(v[0]) + " s is not after " + num(out.time.back()) +
+            fail(at + ", column 1 (time)", "times must increase: " + csv::num(v[0]) + " s is not after " + csv::num(out.time.back()) +
                                                 " s (line " + std::to_string(last_line) + ")");
         if (out.time.size() == kMotionCsvMaxRows) fail(at, "more than " + std::to_string(kMotionCsvMaxRows) + " rows");
         out.time.push_back(v[0]);
         out.position.push_back({v[1], v[2], v[3]});
         if (columns == 7) out.angles.push_back({v[4], v[5], v[6]});
-        last_line = line_no;
+        last_line = lines.line();
     }
     if (out.time.size() < 2)
         fail("", "has " + std::to_string(out.time.size()) + " row" + (out.time.size() == 1 ? "" : "s") +

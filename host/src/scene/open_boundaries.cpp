@@ -3,22 +3,12 @@
 #include "clsph/error.hpp"
 #include "shared.h"
 
+#include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 namespace clsph::scene {
 namespace {
-
-void require(bool ok, const std::string& key, const std::string& what) {
-    if (!ok) throw SceneError(key + ": " + what);
-}
-
-std::string text(const Vec3& v) {
-    std::ostringstream o;
-    o << "[" << v[0] << ", " << v[1] << ", " << v[2] << "]";
-    return o.str();
-}
 
 // Lattice points along an extent: one per dp, at least one (the checks ask for an extent >= dp).
 std::int64_t points(double extent, double dp) { return static_cast<std::int64_t>(std::floor(extent / dp + 1e-9)); }
@@ -30,40 +20,60 @@ int flow_axis(const Vec3& u) {
     return nonzero == 1 ? axis : -1;
 }
 
+// The first and last lattice index (multiples of dp, faces included) of [lo, hi].
+std::int64_t first_index(double lo, double dp) { return static_cast<std::int64_t>(std::ceil(lo / dp - 1e-9)); }
+std::int64_t last_index(double hi, double dp) { return static_cast<std::int64_t>(std::floor(hi / dp + 1e-9)); }
+
+// The profile's factor at a coordinate: linear between its points, the end factors beyond them.
+double profile_factor(const InletProfile& p, double c) {
+    const auto& q = p.points;
+    if (c <= q.front()[0]) return q.front()[1];
+    if (c >= q.back()[0]) return q.back()[1];
+    std::size_t k = 0;
+    while (k + 2 < q.size() && q[k + 1][0] <= c) ++k;
+    const double f = (c - q[k][0]) / (q[k + 1][0] - q[k][0]);
+    return q[k][1] + f * (q[k + 1][1] - q[k][1]);
+}
+
 }  // namespace
 
-void check_open_boundaries(const Scene& s) {
-    const double dp = s.physics.dp;
-    for (std::size_t i = 0; i < s.inlets.size(); ++i) {
-        const Inlet& in = s.inlets[i];
-        const std::string key = "inlets[" + std::to_string(i) + "]";
-        for (const auto* v : {&in.min, &in.max, &in.velocity})
-            for (double x : *v)
-                require(std::isfinite(x), key, "expected finite numbers, got min " + text(in.min) + ", max " + text(in.max) +
-                                                   ", velocity " + text(in.velocity));
-        const int axis = flow_axis(in.velocity);
-        require(axis >= 0, key + ".velocity",
-                "must be along one axis (one non-zero component: [u, 0, 0], [0, v, 0] or [0, 0, w]), got " + text(in.velocity));
-        for (int k = 0; k < 3; ++k) {
-            require(in.max[k] - in.min[k] >= dp * (1 - 1e-9), key + ".max",
-                    "the box must be at least dp = " + std::to_string(dp) + " m wide along each axis (min " + text(in.min) +
-                        ", max " + text(in.max) + ")");
-            require(in.min[k] >= s.domain.min[k] - 1e-9 && in.max[k] <= s.domain.max[k] + 1e-9, key + ".max",
-                    "the box must lie inside the domain");
-        }
-        require(!s.domain.periodic[axis], key + ".velocity",
-                std::string("the domain is periodic along ") + "xyz"[axis] + ", the inlet's axis: an inlet needs an open face");
-        if (in.surface) require(std::isfinite(*in.surface), key + ".surface", "must be a finite number (m)");
-        // Each step moves the buffer less than a column (CFL), and the box must hold one layer.
-        require(s.physics.integrator == Integrator::leapfrog, key,
-                "inlets need physics.integrator \"leapfrog\" (the Symplectic step has two exchanges)");
-        require(!s.has_floating(), key, "inlets do not run with floating bodies yet");
+bool has_outlet_zones(const Scene& s) {
+    return std::any_of(s.outlets.begin(), s.outlets.end(), [](const Outlet& o) { return o.zone; });
+}
+
+InletSpeed::InletSpeed(const Inlet& in) {
+    const int axis = flow_axis(in.velocity);
+    constant_ = axis < 0 ? 0.0 : std::fabs(in.velocity[static_cast<std::size_t>(axis)]);
+    varies_ = !in.speed.empty();
+    if (varies_) series_ = IntegratedSeries(in.speed);
+}
+
+double InletSpeed::at(double t) const { return varies_ ? series_.value(t) : constant_; }
+double InletSpeed::travelled(double t) const { return varies_ ? series_.integral(t) : constant_ * t; }
+double InletSpeed::mean(double t, double dt) const {
+    if (!varies_) return constant_;
+    return dt > 0 ? (series_.integral(t + dt) - series_.integral(t)) / dt : series_.value(t);
+}
+double InletSpeed::max() const { return varies_ ? series_.max() : constant_; }
+
+InletColumns inlet_columns(const Inlet& in, double dp) {
+    InletColumns c;
+    if (in.profile.axis < 0 || in.profile.points.empty()) {
+        c.factor = {1.0};
+        return c;
     }
-    for (std::size_t i = 0; i < s.outlets.size(); ++i) {
-        const Outlet& o = s.outlets[i];
-        require(!s.domain.periodic[static_cast<std::size_t>(o.axis)], "outlets[" + std::to_string(i) + "].face",
-                std::string("the domain is periodic along ") + "xyz"[o.axis] + ": an outlet needs an open face");
-    }
+    c.axis = in.profile.axis;
+    const auto k = static_cast<std::size_t>(c.axis);
+    const std::int64_t lo = first_index(in.min[k], dp), hi = last_index(in.max[k], dp);
+    c.first = static_cast<double>(lo) * dp;
+    for (std::int64_t j = lo; j <= hi; ++j) c.factor.push_back(profile_factor(in.profile, static_cast<double>(j) * dp));
+    return c;
+}
+
+std::size_t inlet_streams(const Scene& scene) {
+    std::size_t n = 0;
+    for (const Inlet& in : scene.inlets) n += inlet_columns(in, scene.physics.dp).factor.size();
+    return n;
 }
 
 InletFeed::InletFeed(const Scene& scene, std::uint64_t first_id) {
@@ -77,52 +87,94 @@ InletFeed::InletFeed(const Scene& scene, std::uint64_t first_id) {
     for (const Inlet& in : scene.inlets) {
         One o;
         o.axis = flow_axis(in.velocity);
-        o.speed = std::fabs(in.velocity[static_cast<std::size_t>(o.axis)]);
-        o.sign = in.velocity[static_cast<std::size_t>(o.axis)] > 0 ? 1.0 : -1.0;
-        o.upstream = o.sign > 0 ? in.min[static_cast<std::size_t>(o.axis)] : in.max[static_cast<std::size_t>(o.axis)];
-        o.layers = points(in.max[static_cast<std::size_t>(o.axis)] - in.min[static_cast<std::size_t>(o.axis)], dp_);
-        o.velocity = in.velocity;
+        const auto ax = static_cast<std::size_t>(o.axis);
+        o.speed = InletSpeed(in);
+        o.sign = in.velocity[ax] > 0 ? 1.0 : -1.0;
+        o.upstream = o.sign > 0 ? in.min[ax] : in.max[ax];
+        o.layers = points(in.max[ax] - in.min[ax], dp_);
+        o.direction = {0, 0, 0};
+        o.direction[ax] = o.sign;
         o.surface = in.surface.value_or(in.max[2]);
+        const InletColumns columns = inlet_columns(in, dp_);
+        o.factor = columns.factor;
+        o.profiled = columns.axis >= 0;
         // The cross-section on the scene's lattice (multiples of dp, faces included), as fluid blocks are.
         const int a = (o.axis + 1) % 3, b = (o.axis + 2) % 3;
-        auto first = [&](int k) { return static_cast<std::int64_t>(std::ceil(in.min[k] / dp_ - 1e-9)); };
-        auto last = [&](int k) { return static_cast<std::int64_t>(std::floor(in.max[k] / dp_ + 1e-9)); };
-        for (std::int64_t j = first(a); j <= last(a); ++j)
-            for (std::int64_t k = first(b); k <= last(b); ++k) {
+        for (std::int64_t j = first_index(in.min[a], dp_); j <= last_index(in.max[a], dp_); ++j)
+            for (std::int64_t k = first_index(in.min[b], dp_); k <= last_index(in.max[b], dp_); ++k) {
                 std::array<double, 3> x{};
                 x[static_cast<std::size_t>(a)] = static_cast<double>(j) * dp_;
                 x[static_cast<std::size_t>(b)] = static_cast<double>(k) * dp_;
                 o.section.push_back(x);
+                const std::int64_t along = columns.axis == a ? j : k;  // the lattice index along the profile's axis
+                o.stream.push_back(o.profiled ? static_cast<std::size_t>(along - first_index(in.min[static_cast<std::size_t>(columns.axis)], dp_)) : 0);
             }
+        o.first_stream = state_.last_layer.size();
+        state_.last_layer.insert(state_.last_layer.end(), o.factor.size(), -o.layers);
         inlets_.push_back(o);
-        state_.last_layer.push_back(-o.layers);
     }
 }
 
 Particles InletFeed::due(double t) {
     Particles out;
-    for (std::size_t i = 0; i < inlets_.size(); ++i) {
-        const One& o = inlets_[i];
-        const double moved = o.speed * t;  // along the velocity since t = 0
-        const auto last = static_cast<std::int64_t>(std::floor(moved / dp_));
-        for (std::int64_t m = state_.last_layer[i] + 1; m <= last; ++m) {
-            const double along = o.upstream + o.sign * (moved - static_cast<double>(m) * dp_);
-            for (const auto& q : o.section) {
-                std::array<double, 3> x = q;
-                x[static_cast<std::size_t>(o.axis)] = along;
+    std::vector<double> moved;
+    std::vector<std::int64_t> last;
+    for (const One& o : inlets_) {
+        // Each stream's distance along the velocity since t = 0 and its last layer due.
+        const double travelled = o.speed.travelled(t);
+        const double u = o.speed.at(t);
+        moved.assign(o.factor.size(), travelled);
+        if (o.profiled)
+            for (std::size_t s = 0; s < moved.size(); ++s) moved[s] = o.factor[s] * travelled;
+        last.resize(moved.size());
+        std::int64_t lo = 0, hi = 0;
+        bool any = false;
+        for (std::size_t s = 0; s < moved.size(); ++s) {
+            last[s] = static_cast<std::int64_t>(std::floor(moved[s] / dp_));
+            const std::int64_t made = state_.last_layer[o.first_stream + s];
+            if (last[s] <= made) continue;
+            lo = any ? std::min(lo, made + 1) : made + 1;
+            hi = any ? std::max(hi, last[s]) : last[s];
+            any = true;
+        }
+        for (std::int64_t m = lo; any && m <= hi; ++m)
+            for (std::size_t q = 0; q < o.section.size(); ++q) {
+                const std::size_t s = o.stream[q];
+                if (m <= state_.last_layer[o.first_stream + s] || m > last[s]) continue;
+                std::array<double, 3> x = o.section[q];
+                x[static_cast<std::size_t>(o.axis)] = o.upstream + o.sign * (moved[s] - static_cast<double>(m) * dp_);
                 const double p = std::max(0.0, rho0_ * g_ * (o.surface - x[2]));
                 const double rho = rho0_ * std::pow(1.0 + p / b_, 1.0 / 7.0);
                 if (state_.next_id > CLSPH_ID_MASK)
                     throw Error("inlets: the particle ids ran out (2^31 - 1 particles made since the start)");
+                const double v = o.profiled ? u * o.factor[s] : u;
                 out.push_back(static_cast<std::uint32_t>(state_.next_id++), ParticleType::fluid, x,
-                              {static_cast<float>(o.velocity[0]), static_cast<float>(o.velocity[1]),
-                               static_cast<float>(o.velocity[2])},
+                              {static_cast<float>(o.direction[0] * v), static_cast<float>(o.direction[1] * v),
+                               static_cast<float>(o.direction[2] * v)},
                               static_cast<float>(rho), static_cast<float>(p));
             }
-            state_.last_layer[i] = m;
+        for (std::size_t s = 0; s < moved.size(); ++s) {
+            auto& made = state_.last_layer[o.first_stream + s];
+            made = std::max(made, last[s]);
         }
     }
     return out;
+}
+
+std::vector<double> InletFeed::speeds(double t) const {
+    std::vector<double> u;
+    for (const One& o : inlets_) u.push_back(o.speed.at(t));
+    return u;
+}
+
+std::vector<double> InletFeed::mean_speeds(double t, double dt) const {
+    std::vector<double> u;
+    for (const One& o : inlets_) u.push_back(o.speed.mean(t, dt));
+    return u;
+}
+
+bool InletFeed::speeds_vary() const {
+    return std::any_of(inlets_.begin(), inlets_.end(), [](const One& o) { return o.speed.varies(); });
 }
 
 std::uint64_t InletFeed::buffer_particles() const {
@@ -139,14 +191,14 @@ std::uint64_t InletFeed::layer_particles() const {
 
 double InletFeed::layers_per_second() const {
     double r = 0;
-    for (const One& o : inlets_) r += o.speed / dp_;
+    for (const One& o : inlets_) r += o.speed.max() * *std::max_element(o.factor.begin(), o.factor.end()) / dp_;
     return r;
 }
 
 void InletFeed::restore(const InletState& s) {
-    if (s.last_layer.size() != inlets_.size())
-        throw Error("inlets: the saved state has " + std::to_string(s.last_layer.size()) + " inlets, the scene " +
-                    std::to_string(inlets_.size()));
+    if (s.last_layer.size() != state_.last_layer.size())
+        throw Error("inlets: the saved state has " + std::to_string(s.last_layer.size()) + " streams, the scene's inlets " +
+                    std::to_string(state_.last_layer.size()));
     state_ = s;
 }
 

@@ -81,11 +81,13 @@ multi::DriverOptions driver_options(const Scene& scene, const Options& options, 
     if (c) d.cuts.assign(c->cuts.begin(), c->cuts.end());
     // Inlets: a checkpoint's feed, so the resumed run makes the same particles with the same ids.
     if (c && !scene.inlets.empty()) {
-        if (c->inlet_layers.size() != scene.inlets.size())
-            throw CheckpointError("(resume)", "holds no inlet state for the scene's " + std::to_string(scene.inlets.size()) + " inlets");
+        const std::size_t streams = scene::inlet_streams(scene);  // one an inlet, or one per profile point
+        if (c->inlet_layers.size() != streams)
+            throw CheckpointError("(resume)", "holds no inlet state for the scene's " + std::to_string(scene.inlets.size()) +
+                                                  " inlets (" + std::to_string(streams) + " streams)");
         d.inlet_state = scene::InletState{c->inlet_next_id, c->inlet_layers};
-        d.start_time = c->time;
     }
+    if (c) d.start_time = c->time;  // inlets, outlet zones: the first pass's time
     return d;
 }
 
