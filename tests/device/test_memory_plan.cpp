@@ -26,7 +26,7 @@ namespace {
 
 // scenes/dam_break.json made small (the CLI suite's tiny dam break: 6,305 particles).
 Scene tiny_dam_break() {
-    const auto path = std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "scenes" / "dam_break.json";
+    const auto path = std::filesystem::path(CLSPH_SOURCE_DIR) / "scenes" / "dam_break.json";
     return load_scene(path.string(),
                       {"physics.dp=0.0146", "physics.coefsound=10", "domain.max=[0.624,0.1898,0.45]",
                        "fluid[0].max=[0.146,0.1752,0.292]", "boundaries.walls[0].max=[0.584,0.1752,0.365]"});
@@ -358,7 +358,7 @@ TEST_CASE("a device whose buffers would outgrow one allocation runs as several s
 
 TEST_CASE("with inlets the plan says the capacity it plans for, and predicts the stores while particles are made") {
     // scenes/channel.json at dp 0.02: 48 buffer particles and 12 a layer, a layer every 80 steps or so.
-    const auto path = std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "scenes" / "channel.json";
+    const auto path = std::filesystem::path(CLSPH_SOURCE_DIR) / "scenes" / "channel.json";
     const Scene scene = load_scene(path.string(), {"physics.dp=0.02"});
     const Particles p = scene.build_particles();
     std::vector<DeviceInfo> infos;

@@ -259,7 +259,7 @@ TEST_CASE("an outlet zone holding a level: the fluid in it at the hydrostatic de
 TEST_CASE("the memory plan with a speed in time, a profile and outlet zones: the same capacity, their buffers as measured") {
     // The channel's inlet ramping along a profile in z, a zone holding a level and one a pressure
     // (docs/scenes.md, inlets and outlets): what fills the domain once does not depend on the speed.
-    const auto path = std::filesystem::path(__FILE__).parent_path() / ".." / ".." / "scenes" / "channel.json";
+    const auto path = std::filesystem::path(CLSPH_SOURCE_DIR) / "scenes" / "channel.json";
     Scene scene = load_scene(path.string(), {"physics.dp=0.02"});
     Inlet& in = scene.inlets[0];
     in.velocity = {1, 0, 0};
