@@ -12,6 +12,7 @@
 //     integer sums in any order and over any split of the particles give the same bits. The host
 //     adds the partials of every group and device (RigidBodies::set_forces turns M into torque).
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 #ifndef CLSPH_VISCOSITY
 #define CLSPH_VISCOSITY 0
@@ -60,11 +61,11 @@ inline void body_pair(BodyForce* st, const SphParams* sp, const BodyNeighbour* s
 #define INTERACTION_NAME floating_forces
 #define INTERACTION_ARGS                                                                                \
     , const SphParams sp, __global const float4 *velrho, __global const uint *ids,                      \
-        __global const float4 *body_rest, const uint body_ids, __global float4 *force
+        __global const float4 *body_rest, const uint body_ids, __global float4 *force NOSLIP_ARGS
 #define NEIGHBOUR_T BodyNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                          \
     do {                                                               \
-        (nb).velrho = velrho[j];                                       \
+        (nb).velrho = SEEN_VELRHO(j);                                  \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; \
     } while (0)
 #define STATE_T BodyForce

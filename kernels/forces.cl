@@ -23,6 +23,7 @@
 // -DCLSPH_MDBC: boundary particles take their density from ghost nodes (mdbc.cl), not from the
 // continuity equation: their drho/dt is 0 and the fine form skips them.
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 #ifndef CLSPH_DIFFUSION
 #define CLSPH_DIFFUSION 2
@@ -67,12 +68,13 @@ typedef struct {
 } ForceState;
 
 #define INTERACTION_NAME forces
-#define INTERACTION_ARGS \
-    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel SPS_ARGS
+#define INTERACTION_ARGS                                                                                    \
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel SPS_ARGS \
+        NOSLIP_ARGS
 #define NEIGHBOUR_T ForceNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
-        (nb).velrho = velrho[j];                                                \
+        (nb).velrho = SEEN_VELRHO(j);                                           \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
         LOAD_SPS(nb, j);                                                        \
     } while (0)
@@ -265,12 +267,13 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
         (st).tzz = vloadV(0, t[5]);                                              \
     } while (0)
 #define LANES_PAIR(st, j, rx, ry, rz, r2, hit) \
-    force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, tau, j)
+    force_lanes(&(st), &sp, SEEN_VELRHO(j), ids[j], rx, ry, rz, r2, hit, tau, j)
 #else
 #define LANES_INIT_SPS(st, base, count) \
     do {                                \
     } while (0)
-#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, j)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) \
+    force_lanes(&(st), &sp, SEEN_VELRHO(j), ids[j], rx, ry, rz, r2, hit, j)
 #endif
 #define LANES_STORE(st, base, count)                                                        \
     do {                                                                                    \

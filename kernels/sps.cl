@@ -13,6 +13,7 @@
 // stress is bitwise its owner's; those of the outer ghost column miss neighbours, and no owned
 // particle reaches them.
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 typedef struct {
     float4 pos;
@@ -44,11 +45,11 @@ inline void sps_pair(SpsGradient* st, const SphParams* sp, const SpsNeighbour* s
 
 #define INTERACTION_NAME sps_stress
 #define INTERACTION_ARGS \
-    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *tau
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *tau NOSLIP_ARGS
 #define NEIGHBOUR_T SpsNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                          \
     do {                                                               \
-        (nb).velrho = velrho[j];                                       \
+        (nb).velrho = SEEN_VELRHO(j);                                  \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; \
     } while (0)
 #define STATE_T SpsGradient
