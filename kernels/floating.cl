@@ -3,6 +3,7 @@
 //   floating_forces: per owned particle of a floating body (body_rest[id].w >= 0) the force of
 //     its fluid neighbours, the reaction of the pair terms the fluid gets from it in forces.cl:
 //       F_i = -m^2 sum_j [(p_i + p_j) / (rho_i rho_j) + Pi_ij] F_ij (x_i - x_j)
+//     (v_i the velocity the fluid saw at i, wall_velocity.h: with no-slip walls the mirrored one)
 //     (pressure; Monaghan's viscosity with alpha_wall, where v_ij . x_ij < 0, or with
 //     -DCLSPH_VISCOSITY=1 the laminar term's reaction, m^2 4 nu F r^2 / ((rho_i + rho_j)(r^2 +
 //     eta^2)) v_ij); others get 0.

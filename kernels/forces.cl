@@ -12,7 +12,7 @@
 //   laminar      -DCLSPH_VISCOSITY=1 instead of Monaghan's: Morris et al. (1997) in the form of
 //                Lo & Shao (2002), a_i += sum_j m 4 nu (x_ij . grad_i W_ij) / ((rho_i + rho_j)
 //                (r^2 + eta^2)) v_ij, between fluid particles and with boundary particles alike
-//                (walls: no-slip at their velocity)
+//                (walls: no-slip at the velocity they show, wall_velocity.h)
 //   SPS          -DCLSPH_VISCOSITY=2: laminar plus the sub-particle-scale stress of sps.cl (its pass
 //                before this one), a_i += sum_j m (tau_i / rho_i^2 + tau_j / rho_j^2) . grad_i W_ij
 //                (boundary particles' tau is 0)
@@ -22,6 +22,8 @@
 // -DCLSPH_DIFFUSION=0|1|2: none, Molteni-Colagrossi, Fourtakas.
 // -DCLSPH_MDBC: boundary particles take their density from ghost nodes (mdbc.cl), not from the
 // continuity equation: their drho/dt is 0 and the fine form skips them.
+// -DCLSPH_NOSLIP (with -DCLSPH_MDBC): a boundary neighbour's velocity in every term above is the
+// fluid's at its ghost node mirrored about the wall's, 2 v_wall - v_G (wall_velocity.h).
 #include "sph_kernel.h"
 #include "wall_velocity.h"
 

@@ -6,6 +6,7 @@
 // neighbours' terms in the order the fine form (mdbc_boundary) does; candidates outside a lane's
 // support are masked. Each lane's 4x4 system is then solved as there. A batch whose rows would
 // overlap themselves across a periodic wrap falls back to the fine form's function, lane by lane.
+// -DCLSPH_NOSLIP: each lane also sums the fluid's velocities and gets its v_wall - v_G as mdbc.cl.
 #include "mdbc.cl"
 #include "lanes.h"
 
