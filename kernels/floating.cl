@@ -3,6 +3,7 @@
 //   floating_forces: per owned particle of a floating body (body_rest[id].w >= 0) the force of
 //     its fluid neighbours, the reaction of the pair terms the fluid gets from it in forces.cl:
 //       F_i = -m^2 sum_j [(p_i + p_j) / (rho_i rho_j) + Pi_ij] F_ij (x_i - x_j)
+//     (v_i the velocity the fluid saw at i, wall_velocity.h: with no-slip walls the mirrored one)
 //     (pressure; Monaghan's viscosity with alpha_wall, where v_ij . x_ij < 0, or with
 //     -DCLSPH_VISCOSITY=1 the laminar term's reaction, m^2 4 nu F r^2 / ((rho_i + rho_j)(r^2 +
 //     eta^2)) v_ij); others get 0.
@@ -12,6 +13,7 @@
 //     integer sums in any order and over any split of the particles give the same bits. The host
 //     adds the partials of every group and device (RigidBodies::set_forces turns M into torque).
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 #ifndef CLSPH_VISCOSITY
 #define CLSPH_VISCOSITY 0
@@ -60,11 +62,11 @@ inline void body_pair(BodyForce* st, const SphParams* sp, const BodyNeighbour* s
 #define INTERACTION_NAME floating_forces
 #define INTERACTION_ARGS                                                                                \
     , const SphParams sp, __global const float4 *velrho, __global const uint *ids,                      \
-        __global const float4 *body_rest, const uint body_ids, __global float4 *force
+        __global const float4 *body_rest, const uint body_ids, __global float4 *force NOSLIP_ARGS
 #define NEIGHBOUR_T BodyNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                          \
     do {                                                               \
-        (nb).velrho = velrho[j];                                       \
+        (nb).velrho = SEEN_VELRHO(j);                                  \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; \
     } while (0)
 #define STATE_T BodyForce

@@ -12,7 +12,7 @@
 //   laminar      -DCLSPH_VISCOSITY=1 instead of Monaghan's: Morris et al. (1997) in the form of
 //                Lo & Shao (2002), a_i += sum_j m 4 nu (x_ij . grad_i W_ij) / ((rho_i + rho_j)
 //                (r^2 + eta^2)) v_ij, between fluid particles and with boundary particles alike
-//                (walls: no-slip at their velocity)
+//                (walls: no-slip at the velocity they show, wall_velocity.h)
 //   SPS          -DCLSPH_VISCOSITY=2: laminar plus the sub-particle-scale stress of sps.cl (its pass
 //                before this one), a_i += sum_j m (tau_i / rho_i^2 + tau_j / rho_j^2) . grad_i W_ij
 //                (boundary particles' tau is 0)
@@ -22,7 +22,10 @@
 // -DCLSPH_DIFFUSION=0|1|2: none, Molteni-Colagrossi, Fourtakas.
 // -DCLSPH_MDBC: boundary particles take their density from ghost nodes (mdbc.cl), not from the
 // continuity equation: their drho/dt is 0 and the fine form skips them.
+// -DCLSPH_NOSLIP (with -DCLSPH_MDBC): a boundary neighbour's velocity in every term above is the
+// fluid's at its ghost node mirrored about the wall's, 2 v_wall - v_G (wall_velocity.h).
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 #ifndef CLSPH_DIFFUSION
 #define CLSPH_DIFFUSION 2
@@ -67,12 +70,13 @@ typedef struct {
 } ForceState;
 
 #define INTERACTION_NAME forces
-#define INTERACTION_ARGS \
-    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel SPS_ARGS
+#define INTERACTION_ARGS                                                                                    \
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *accel SPS_ARGS \
+        NOSLIP_ARGS
 #define NEIGHBOUR_T ForceNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                                   \
     do {                                                                        \
-        (nb).velrho = velrho[j];                                                \
+        (nb).velrho = SEEN_VELRHO(j);                                           \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID;          \
         LOAD_SPS(nb, j);                                                        \
     } while (0)
@@ -265,12 +269,13 @@ inline void force_lanes(ForceLanes* st, const SphParams* sp, const float4 vr_j, 
         (st).tzz = vloadV(0, t[5]);                                              \
     } while (0)
 #define LANES_PAIR(st, j, rx, ry, rz, r2, hit) \
-    force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, tau, j)
+    force_lanes(&(st), &sp, SEEN_VELRHO(j), ids[j], rx, ry, rz, r2, hit, tau, j)
 #else
 #define LANES_INIT_SPS(st, base, count) \
     do {                                \
     } while (0)
-#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) force_lanes(&(st), &sp, velrho[j], ids[j], rx, ry, rz, r2, hit, j)
+#define LANES_PAIR(st, j, rx, ry, rz, r2, hit) \
+    force_lanes(&(st), &sp, SEEN_VELRHO(j), ids[j], rx, ry, rz, r2, hit, j)
 #endif
 #define LANES_STORE(st, base, count)                                                        \
     do {                                                                                    \

@@ -19,8 +19,30 @@
 // in place (it reads only fluid densities): the forces of the next step use them, and every device
 // that holds b as a ghost gets the owner's value at the next exchange, so results do not depend on
 // the device count.
+//
+// -DCLSPH_NOSLIP (no-slip walls, boundaries.slip "no-slip"; English et al. 2021, DualSPHysics'
+// mDBC SlipMode 2): the same sums with the fluid's velocities on the right-hand side give the
+// fluid's velocity at the ghost node,
+//   A [v_G, h grad v_G]^T = [sum V_j W v_j, sum V_j h grad_G W v_j]^T     (each component)
+// of which only the value at G is kept: v_G (Shepard, sum V W v / sum V W, where the density takes
+// Shepard). The velocity is mirrored about the wall's at the node rather than extrapolated, so the
+// wall's velocity holds halfway between b and G, on the boundary interface. The pass writes
+// v_wall - v_G, v_wall = velrho[b].xyz (the wall's own: 0 at rest, the motion's or the body's
+// from motion.cl), into the xyz of b's entry of the force pass's output `wall_seen` (its w, b's
+// drho/dt, is kept); 0 where no fluid is near G. The interaction passes then see b moving at
+// velrho[b].xyz + that: wall_velocity.h says why it lives there and not in velrho.
 #include "grid.h"
 #include "sph_kernel.h"
+
+#ifdef CLSPH_NOSLIP
+#define WALL_OUT , float3 *wall_offset
+#define WALL_ARGS , __global float4 *wall_seen
+#define WALL_ARG , wall_seen
+#else
+#define WALL_OUT
+#define WALL_ARGS
+#define WALL_ARG
+#endif
 
 // The cell and offset of x + d (x given by its key and offset); false when it leaves the domain.
 inline bool displace(const GridParams g, const uint key, const float3 off, const float3 d, uint* key_out,
@@ -97,17 +119,79 @@ inline float mdbc_solve(const SphParams sp, float m[4][4], float r[4], const flo
     return fmax(rho, sp.rho0);
 }
 
+#ifdef CLSPH_NOSLIP
+// The fluid's velocity at the ghost node from the sums m (overwritten) and u (each row of r for
+// the three components at once): first order where |det m| >= CLSPH_MDBC_DET, as mdbc_solve
+// decides for the density, else Shepard; only called with fluid near the node (m[0][0] > 0).
+inline float3 ghost_velocity(float m[4][4], float3 u[4]) {
+    const float3 shepard = u[0] / m[0][0];
+    float det = 1.0f;
+    for (int c = 0; c < 4; ++c) {
+        int p = c;
+        for (int k = c + 1; k < 4; ++k)
+            if (fabs(m[k][c]) > fabs(m[p][c])) p = k;
+        if (p != c) {
+            for (int k = 0; k < 4; ++k) {
+                const float t = m[c][k];
+                m[c][k] = m[p][k];
+                m[p][k] = t;
+            }
+            const float3 t = u[c];
+            u[c] = u[p];
+            u[p] = t;
+            det = -det;
+        }
+        const float piv = m[c][c];
+        det *= piv;
+        if (piv == 0.0f) return shepard;
+        for (int k = c + 1; k < 4; ++k) {
+            const float f = m[k][c] / piv;
+            for (int l = c; l < 4; ++l) m[k][l] -= f * m[c][l];
+            u[k] -= f * u[c];
+        }
+    }
+    if (!(fabs(det) >= CLSPH_MDBC_DET)) return shepard;
+    for (int c = 3; c >= 0; --c) {
+        float3 v = u[c];
+        for (int l = c + 1; l < 4; ++l) v -= m[c][l] * u[l];
+        u[c] = v / m[c][c];
+    }
+    return u[0];
+}
+
+// v_wall - v_G for a boundary particle whose wall moves at v_wall, from its node's sums (m is
+// overwritten): 0 without fluid near the node.
+inline float3 wall_offset_of(float m[4][4], float3 u[4], const float3 v_wall) {
+    if (!(m[0][0] > 0.0f)) return (float3)(0.0f);
+    return v_wall - ghost_velocity(m, u);
+}
+
+// Writes b's offset into the xyz of its entry of the force pass's output, keeping w (drho/dt).
+inline void store_wall_offset(__global float4* wall_seen, const uint i, const float3 d) {
+    float4 o = wall_seen[i];
+    o.xyz = d;
+    wall_seen[i] = o;
+}
+#endif
+
 // The density of boundary particle i from its ghost node (see above).
 inline float mdbc_density(const uint i, const uint cells, const GridParams g, const SphParams sp,
                           __global const float4* pos, __global const uint* cell_key, __global const uint* cell_start,
-                          __global const float4* velrho, __global const uint* ids, const float3 mirror) {
+                          __global const float4* velrho, __global const uint* ids,
+                          const float3 mirror WALL_OUT) {
     const float4 xb = pos[i];
     uint key;
     float3 off;
+#ifdef CLSPH_NOSLIP
+    *wall_offset = (float3)(0.0f);
+#endif
     if (!displace(g, pos_key(xb), xb.xyz, mirror, &key, &off)) return sp.rho0;
     const float4 xg = (float4)(off, as_float(key));
     float m[4][4] = {{0.0f}};
     float r[4] = {0.0f};
+#ifdef CLSPH_NOSLIP
+    float3 u[4] = {(float3)(0.0f), (float3)(0.0f), (float3)(0.0f), (float3)(0.0f)};
+#endif
     const int s = (int)key_s(g, key), a = (int)key_a(g, key);
     const uint b = key_b(g, key);
     for (uint row = 0; row < ROWS; ++row) {
@@ -146,8 +230,20 @@ inline float mdbc_density(const uint i, const uint cells, const GridParams g, co
             r[1] += gw.x * drho;
             r[2] += gw.y * drho;
             r[3] += gw.z * drho;
+#ifdef CLSPH_NOSLIP
+            const float3 vj = velrho[j].xyz;
+            u[0] += w * vj;
+            u[1] += gw.x * vj;
+            u[2] += gw.y * vj;
+            u[3] += gw.z * vj;
+#endif
         }
     }
+#ifdef CLSPH_NOSLIP
+    float mv[4][4];
+    for (int k = 0; k < 16; ++k) mv[k / 4][k % 4] = m[k / 4][k % 4];
+    *wall_offset = wall_offset_of(mv, u, velrho[i].xyz);
+#endif
     return mdbc_solve(sp, m, r, mirror);
 }
 
@@ -159,7 +255,7 @@ __kernel void mdbc_boundary(const uint first, const uint last, const uint cells,
                             const uint counted, const GridParams g, const SphParams sp, __global const float4* pos,
                             __global const uint* cell_key, __global const uint* cell_start, __global float4* velrho,
                             __global const uint* ids, __global const float4* ghost, const uint ghost_count,
-                            __global const uint* halt) {
+                            __global const uint* halt WALL_ARGS) {
     const uint i = first + (uint)get_global_id(0);
     if (i >= last || *halt != 0u) return;
     const uint id = ids[i];
@@ -168,193 +264,12 @@ __kernel void mdbc_boundary(const uint first, const uint last, const uint cells,
     const uint n = id & CLSPH_ID_MASK;
     const float3 mirror = n < ghost_count ? ghost[n].xyz : (float3)(0.0f);
     const uint k = counted ? count[0] : cells;
+#ifdef CLSPH_NOSLIP
+    float3 d;
+    const float rho = mdbc_density(i, k, g, sp, pos, cell_key, cell_start, velrho, ids, mirror, &d);
+    store_wall_offset(wall_seen, i, d);
+    velrho[i].w = rho;
+#else
     velrho[i].w = mdbc_density(i, k, g, sp, pos, cell_key, cell_start, velrho, ids, mirror);
-}
-
-#ifdef CLSPH_LANES
-// The CPU form (-DCLSPH_LANES=8|16; chosen where the interaction pass runs lanes, physics.cpp): a
-// work-item per non-empty cell, the cell's owned boundary particles CLSPH_LANES at a time in the
-// lanes of vector types (lanes.h). Their ghost nodes lie in nearby cells, not all in one: the lanes
-// share the union of their neighbour rows (the box of their ghost nodes' cells, widened by the
-// rows' reach), walked in the fine form's order (s, then a, then index), so each lane adds its own
-// neighbours' terms in the order the fine form (mdbc_boundary) does; candidates outside a lane's
-// support are masked. Each lane's 4x4 system is then solved as there. A batch whose rows would
-// overlap themselves across a periodic wrap falls back to the fine form's function, lane by lane.
-#include "lanes.h"
-
-// The densities of boundary particles idx[0..n) (n >= 1) from their ghost nodes.
-inline void mdbc_lanes_batch(const uint* idx, const uint n, const uint cells, const GridParams g, const SphParams sp,
-                             __global const float4* pos, __global const uint* cell_key,
-                             __global const uint* cell_start, __global float4* velrho, __global const uint* ids,
-                             __global const float4* ghost, const uint ghost_count) {
-    float3 mirror[VW];
-    int ls[VW], la[VW], lb[VW], ok[VW];
-    float lx[VW], ly[VW], lz[VW];
-    int smin = 0, smax = -1, amin = 0, amax = -1, bmin = 0, bmax = -1, first_ok = -1;
-    for (uint l = 0; l < n; ++l) {
-        const uint i = idx[l];
-        const uint m = ids[i] & CLSPH_ID_MASK;
-        mirror[l] = m < ghost_count ? ghost[m].xyz : (float3)(0.0f);
-        const float4 xb = pos[i];
-        uint key;
-        float3 off;
-        ok[l] = displace(g, pos_key(xb), xb.xyz, mirror[l], &key, &off) ? -1 : 0;
-        if (!ok[l]) continue;
-        ls[l] = (int)key_s(g, key);
-        la[l] = (int)key_a(g, key);
-        lb[l] = (int)key_b(g, key);
-        lx[l] = off.x;
-        ly[l] = off.y;
-        lz[l] = off.z;
-        if (first_ok < 0) {
-            first_ok = (int)l;
-            smin = smax = ls[l];
-            amin = amax = la[l];
-            bmin = bmax = lb[l];
-        } else {
-            smin = min(smin, ls[l]);
-            smax = max(smax, ls[l]);
-            amin = min(amin, la[l]);
-            amax = max(amax, la[l]);
-            bmin = min(bmin, lb[l]);
-            bmax = max(bmax, lb[l]);
-        }
-    }
-    if (first_ok < 0) {  // no ghost node inside the domain
-        for (uint l = 0; l < n; ++l) velrho[idx[l]].w = sp.rho0;
-        return;
-    }
-    if (g.periodic_a && amax - amin + 2 * CLSPH_REACH + 1 > (int)g.n_a) {  // the rows would meet across the wrap
-        for (uint l = 0; l < n; ++l)
-            velrho[idx[l]].w = mdbc_density(idx[l], cells, g, sp, pos, cell_key, cell_start, velrho, ids, mirror[l]);
-        return;
-    }
-    // Lanes without a ghost node in the domain, and those beyond n, copy the first that has one
-    // (computed, never stored).
-    for (uint l = 0; l < VW; ++l)
-        if (l >= n || !ok[l]) {
-            ls[l] = ls[first_ok];
-            la[l] = la[first_ok];
-            lb[l] = lb[first_ok];
-            lx[l] = lx[first_ok];
-            ly[l] = ly[first_ok];
-            lz[l] = lz[first_ok];
-        }
-    const intV vs = vloadV(0, ls), va = vloadV(0, la), vb = vloadV(0, lb);
-    const floatV ox = vloadV(0, lx), oy = vloadV(0, ly), oz = vloadV(0, lz);
-    floatV m00 = 0.0f, m01 = 0.0f, m02 = 0.0f, m03 = 0.0f, m10 = 0.0f, m11 = 0.0f, m12 = 0.0f, m13 = 0.0f;
-    floatV m20 = 0.0f, m21 = 0.0f, m22 = 0.0f, m23 = 0.0f, m30 = 0.0f, m31 = 0.0f, m32 = 0.0f, m33 = 0.0f;
-    floatV r0 = 0.0f, r1 = 0.0f, r2s = 0.0f, r3 = 0.0f;
-    for (int s2 = smin - 1; s2 <= smax + 1; ++s2) {
-        if (s2 < 0 || s2 >= (int)g.n_s) continue;
-        const floatV cs = convert_floatV(s2 - vs) * g.cell_s;
-        for (int a_abs = amin - CLSPH_REACH; a_abs <= amax + CLSPH_REACH; ++a_abs) {
-            int a2 = a_abs;
-            if (g.periodic_a) {
-                if (a2 < 0) a2 += (int)g.n_a;
-                if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
-            }
-            if (a2 < 0 || a2 >= (int)g.n_a) continue;
-            const floatV ca = convert_floatV(a_abs - va) * g.cell_a;
-            const uint lo = make_key(g, (uint)s2, (uint)a2, (uint)bmin) - CLSPH_REACH;
-            const uint hi = make_key(g, (uint)s2, (uint)a2, (uint)bmax) + CLSPH_REACH + 1u;
-            const uint begin = cell_start[lower_bound_key(cell_key, cells, lo)];
-            const uint end = cell_start[lower_bound_key(cell_key, cells, hi)];
-            for (uint j = begin; j < end; ++j) {
-                if ((ids[j] >> CLSPH_TYPE_SHIFT) != CLSPH_TYPE_FLUID) continue;
-                const float4 pj = pos[j];
-                const floatV cb = convert_floatV((int)key_b(g, pos_key(pj)) - vb) * g.cell_b;
-                floatV cd[3];
-                cd[AXIS_S] = cs;
-                cd[AXIS_A] = ca;
-                cd[AXIS_B] = cb;
-                const floatV dx = cd[0] + (pj.x - ox), dy = cd[1] + (pj.y - oy), dz = cd[2] + (pj.z - oz);
-                const floatV rr = dx * dx + dy * dy + dz * dz;
-                const intV hit = rr < sp.support2;
-                if (!any(hit)) continue;
-                const floatV rad = sqrt(rr);
-                const float rho = velrho[j].w;
-                const float v = sp.mass / rho;
-                const floatV w = select((floatV)(0.0f), v * kernel_w_lanes(&sp, rad), hit);
-                const floatV f = select((floatV)(0.0f), (-v * kernel_f_lanes(&sp, rad)) * sp.h, hit & (rr > 0.0f));
-                const floatV qx = dx * sp.inv_h, qy = dy * sp.inv_h, qz = dz * sp.inv_h;
-                const floatV gx = f * dx, gy = f * dy, gz = f * dz;
-                const float drho = rho - sp.rho0;
-                m00 += w;
-                m01 += w * qx;
-                m02 += w * qy;
-                m03 += w * qz;
-                m10 += gx;
-                m11 += gx * qx;
-                m12 += gx * qy;
-                m13 += gx * qz;
-                m20 += gy;
-                m21 += gy * qx;
-                m22 += gy * qy;
-                m23 += gy * qz;
-                m30 += gz;
-                m31 += gz * qx;
-                m32 += gz * qy;
-                m33 += gz * qz;
-                r0 += w * drho;
-                r1 += gx * drho;
-                r2s += gy * drho;
-                r3 += gz * drho;
-            }
-        }
-    }
-    float acc[20][VW];
-    vstoreV(m00, 0, acc[0]);
-    vstoreV(m01, 0, acc[1]);
-    vstoreV(m02, 0, acc[2]);
-    vstoreV(m03, 0, acc[3]);
-    vstoreV(m10, 0, acc[4]);
-    vstoreV(m11, 0, acc[5]);
-    vstoreV(m12, 0, acc[6]);
-    vstoreV(m13, 0, acc[7]);
-    vstoreV(m20, 0, acc[8]);
-    vstoreV(m21, 0, acc[9]);
-    vstoreV(m22, 0, acc[10]);
-    vstoreV(m23, 0, acc[11]);
-    vstoreV(m30, 0, acc[12]);
-    vstoreV(m31, 0, acc[13]);
-    vstoreV(m32, 0, acc[14]);
-    vstoreV(m33, 0, acc[15]);
-    vstoreV(r0, 0, acc[16]);
-    vstoreV(r1, 0, acc[17]);
-    vstoreV(r2s, 0, acc[18]);
-    vstoreV(r3, 0, acc[19]);
-    for (uint l = 0; l < n; ++l) {
-        float m[4][4], r[4];
-        for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = acc[k][l];
-        for (int k = 0; k < 4; ++k) r[k] = acc[16 + k][l];
-        velrho[idx[l]].w = ok[l] ? mdbc_solve(sp, m, r, mirror[l]) : sp.rho0;
-    }
-}
-
-// Owned boundary particles [first, last), a work-item per non-empty cell (launched with
-// work-groups of one; `cells` or count[0] as mdbc_boundary's, the launch may be the tables'
-// capacity).
-__kernel void mdbc_boundary_lanes(const uint first, const uint last, const uint cells, __global const uint* count,
-                                  const uint counted, const GridParams g, const SphParams sp,
-                                  __global const float4* pos, __global const uint* cell_key,
-                                  __global const uint* cell_start, __global float4* velrho, __global const uint* ids,
-                                  __global const float4* ghost, const uint ghost_count, __global const uint* halt) {
-    const uint c = (uint)get_global_id(0);
-    const uint k = counted ? count[0] : cells;
-    if (c >= k || *halt != 0u) return;
-    const uint begin = max(cell_start[c], first), end = min(cell_start[c + 1u], last);
-    uint idx[VW];
-    uint n = 0;
-    for (uint i = begin; i < end; ++i) {
-        if ((ids[i] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID) continue;
-        if (as_uint(pos[i].w) == g.invalid_key) continue;
-        idx[n++] = i;
-        if (n == VW) {
-            mdbc_lanes_batch(idx, n, k, g, sp, pos, cell_key, cell_start, velrho, ids, ghost, ghost_count);
-            n = 0;
-        }
-    }
-    if (n > 0) mdbc_lanes_batch(idx, n, k, g, sp, pos, cell_key, cell_start, velrho, ids, ghost, ghost_count);
-}
 #endif
+}

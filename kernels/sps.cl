@@ -2,7 +2,8 @@
 // DualSPHysics computes it), a pass before the force pass of the same step (forces.cl uses it with
 // -DCLSPH_VISCOSITY=2). Per fluid particle i, the velocity gradient
 //     G_ab = sum_j (m / rho_j) (v_j - v_i)_a dW_ij/dx_b,  off-diagonal entries summed: G_ab + G_ba,
-// over fluid and boundary neighbours alike; then, with |S|^2 = 2 (G_xx^2 + G_yy^2 + G_zz^2) +
+// over fluid and boundary neighbours alike (a boundary neighbour's velocity as wall_velocity.h has
+// it: with no-slip walls the mirrored one); then, with |S|^2 = 2 (G_xx^2 + G_yy^2 + G_zz^2) +
 // G_xy^2 + G_xz^2 + G_yz^2, the Smagorinsky eddy viscosity nu_t = (Cs dp)^2 |S| (Cs = 0.12) and the
 // stress over rho_i^2 (what the force pass sums),
 //     tau_aa / rho_i^2 = (2 nu_t G_aa - (2/3) nu_t div v - (2/3) CI dp^2 |S|^2) / rho_i  (CI = 0.0066)
@@ -13,6 +14,7 @@
 // stress is bitwise its owner's; those of the outer ghost column miss neighbours, and no owned
 // particle reaches them.
 #include "sph_kernel.h"
+#include "wall_velocity.h"
 
 typedef struct {
     float4 pos;
@@ -44,11 +46,11 @@ inline void sps_pair(SpsGradient* st, const SphParams* sp, const SpsNeighbour* s
 
 #define INTERACTION_NAME sps_stress
 #define INTERACTION_ARGS \
-    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *tau
+    , const SphParams sp, __global const float4 *velrho, __global const uint *ids, __global float4 *tau NOSLIP_ARGS
 #define NEIGHBOUR_T SpsNeighbour
 #define LOAD_NEIGHBOUR(nb, j)                                          \
     do {                                                               \
-        (nb).velrho = velrho[j];                                       \
+        (nb).velrho = SEEN_VELRHO(j);                                  \
         (nb).fluid = (ids[j] >> CLSPH_TYPE_SHIFT) == CLSPH_TYPE_FLUID; \
     } while (0)
 #define STATE_T SpsGradient

@@ -141,6 +141,37 @@ TEST_CASE("mDBC: bitwise identical on 1, 2 and 3 devices while cuts sweep across
     CHECK(first_difference(balanced, 100) == -1);
 }
 
+TEST_CASE("mDBC no-slip walls: bitwise identical on 1, 2 and 3 devices while cuts sweep (laminar and laminar+sps)") {
+    // Each owner writes its boundary particles' v_wall - v_G into their accelerations' xyz
+    // (kernels/wall_velocity.h), which every exchange carries with the particle: the ghosts'
+    // mirrored velocities are their owners' bits, on one halo column (laminar) or two (SPS).
+    Scene scene = test::small_dam(0.146 / 8);
+    scene.fluids.front().velocity = {1.0, 0.0, 0.0};
+    scene.boundary_method = BoundaryMethod::mdbc;
+    scene.wall_slip = WallSlip::no_slip;
+    scene.physics.kinematic_viscosity = 1e-3;
+    for (const Viscosity model : {Viscosity::laminar, Viscosity::laminar_sps}) {
+        CAPTURE(model == Viscosity::laminar_sps);
+        scene.physics.viscosity = model;
+        auto sims = on_1_2_3(scene, [](std::size_t D) {
+            Options o;
+            if (D == 1) return o;
+            testing::Seams seams;
+            seams.cut_schedule = test::sweeping_cuts(D);
+            testing::set_seams(o, seams);
+            return o;
+        });
+        CHECK(first_difference(sims, 100) == -1);
+        Scene wall = scene;  // and the mirror was there: the walls' own velocity gives another flow
+        wall.wall_slip = WallSlip::wall;
+        Options o;
+        o.devices = test::device_spec(1);
+        Simulation plain(wall, o);
+        for (int k = 0; k < 100; ++k) plain.step();
+        CHECK(differing(state_of(plain), state_of(*sims[0])) > 0);
+    }
+}
+
 TEST_CASE("laminar viscosity: bitwise identical on 1, 2 and 3 devices while cuts sweep") {
     // The laminar term adds no state: each pair's term from both particles' velocities and
     // densities, summed in the fine form's order. nu large enough to matter in 100 steps.

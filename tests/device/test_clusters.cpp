@@ -190,9 +190,14 @@ TEST_CASE("the clusters form is bitwise the fine form in motion") {
     summation.physics.density = DensityMode::summation;
     Scene symplectic = moving_paddle(false);
     symplectic.physics.integrator = Integrator::symplectic;
+    Scene no_slip = moving_paddle(true);  // the walls' mirrored velocities (kernels/wall_velocity.h)
+    no_slip.wall_slip = WallSlip::no_slip;
+    no_slip.physics.viscosity = Viscosity::laminar_sps;
+    no_slip.physics.kinematic_viscosity = 1e-3;
     const Config configs[] = {{"moving solid, continuity, DBC, the step ahead", moving_paddle(false), false},
                               {"moving solid, summation density, mDBC, synchronous", summation, true},
-                              {"moving solid, Symplectic", symplectic, false}};
+                              {"moving solid, Symplectic", symplectic, false},
+                              {"moving solid, mDBC no-slip walls, laminar+sps, the step ahead", no_slip, false}};
     const int steps = 12;
     for (const auto& c : configs) {
         CAPTURE(c.what);

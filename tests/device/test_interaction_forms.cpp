@@ -27,18 +27,14 @@ Particles run(const Scene& scene, Interaction form, std::size_t devices, int ste
     return sim.particles();
 }
 
-}  // namespace
-
-TEST_SUITE("physics") {
-TEST_CASE("every interaction form, on one device and on three, follows the fine form on one device") {
-    const Scene scene = test::small_tank(0.1, 0.2);
+// Every form but clusters (bitwise the fine form's on any device count: test_clusters.cpp) on one
+// device and on `several`, against the fine form on one device.
+void forms_follow_fine(const Scene& scene, std::size_t several) {
     const int steps = 20;
     const Particles ref = run(scene, Interaction::fine, 1, steps);
     std::map<std::uint32_t, std::size_t> ref_at;
     for (std::size_t i = 0; i < ref.size(); ++i) ref_at[ref.id[i]] = i;
     REQUIRE(ref_at.size() == ref.size());
-    const std::size_t several = std::min<std::size_t>(3, test::devices().size());
-    if (several < 2) test_skip::skip("interaction forms on three devices: one device only (POCL_DEVICES=\"basic pthread\")");
     for (const Interaction form : interaction_forms())
         for (const std::size_t count : {std::size_t{1}, several}) {
             if (count < 2 && form == Interaction::fine) continue;  // the reference itself
@@ -63,6 +59,22 @@ TEST_CASE("every interaction form, on one device and on three, follows the fine 
             CHECK(worst < 1e-6);  // m: round-off, not a different physics (2e-9 m seen on pocl and rusticl)
             CHECK(worst_v < 1e-4);
         }
+}
+
+}  // namespace
+
+TEST_SUITE("physics") {
+TEST_CASE("every interaction form, on one device and on three, follows the fine form on one device") {
+    const std::size_t several = std::min<std::size_t>(3, test::devices().size());
+    if (several < 2) test_skip::skip("interaction forms on three devices: one device only (POCL_DEVICES=\"basic pthread\")");
+    forms_follow_fine(test::small_tank(0.1, 0.2), several);
+    // mDBC no-slip walls: every form reads the walls' mirrored velocities (kernels/wall_velocity.h).
+    Scene no_slip = test::small_tank(0.1, 0.2);
+    no_slip.boundary_method = BoundaryMethod::mdbc;
+    no_slip.wall_slip = WallSlip::no_slip;
+    no_slip.physics.viscosity = Viscosity::laminar;
+    no_slip.physics.kinematic_viscosity = 1e-3;
+    forms_follow_fine(no_slip, several);
 }
 }
 

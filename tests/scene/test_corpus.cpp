@@ -51,6 +51,8 @@ const std::vector<Case> corpus_cases = {
     {"bad_kernel.json", "physics.kernel: unknown value \"gauss\" (expected one of \"wendland\", \"cubic\")"},
     {"bad_integrator.json", "physics.integrator: unknown value \"verlet\" (expected one of \"leapfrog\", \"symplectic\")"},
     {"bad_boundary_method.json", "boundaries.method: unknown value \"ghost\" (expected one of \"dbc\", \"mdbc\")"},
+    {"bad_slip.json", "boundaries.slip: unknown value \"free\" (expected one of \"wall\", \"no-slip\")"},
+    {"slip_with_dbc.json", "boundaries.slip: \"no-slip\" needs mDBC walls (boundaries.method \"mdbc\")"},
     {"alpha_wall_negative.json", "physics.alpha_wall: must be >= 0"},
     {"kinematic_viscosity_negative.json", "physics.kinematic_viscosity: must be a finite number >= 0"},
     {"bad_viscosity.json",

@@ -131,6 +131,31 @@ TEST_CASE("walls by default: mDBC with wall friction; DBC, and a note, for a sce
     CHECK(clsph::Scene::from_json_text(floating.to_json(), "back.json").notes.empty());
 }
 
+TEST_CASE("boundaries.slip: the walls' own velocity by default, no-slip with mDBC walls, kept by to_json") {
+    auto scene = [](const std::string& boundaries) {
+        return clsph::Scene::from_json_text(R"({"physics": {"dp": 0.05},
+            "domain": {"min": [-0.2, -0.2, -0.2], "max": [1.2, 0.6, 1.2]},
+            "fluid": [{"min": [0, 0, 0], "max": [1, 0.4, 0.25]}],
+            "boundaries": {"walls": [{"min": [0, 0, 0], "max": [1, 0.4, 1]}])" + boundaries + "}}",
+                                            "slip.json");
+    };
+    CHECK(scene("").wall_slip == clsph::WallSlip::wall);
+    CHECK(scene(R"(, "method": "dbc")").wall_slip == clsph::WallSlip::wall);
+    CHECK(scene(R"(, "slip": "wall")").wall_slip == clsph::WallSlip::wall);
+    const clsph::Scene no_slip = scene(R"(, "slip": "no-slip")");  // the default walls are mDBC
+    CHECK(no_slip.wall_slip == clsph::WallSlip::no_slip);
+    CHECK(no_slip.boundary_method == clsph::BoundaryMethod::mdbc);
+    const clsph::Scene back = clsph::Scene::from_json_text(no_slip.to_json(), "back.json");
+    CHECK(back.wall_slip == clsph::WallSlip::no_slip);
+    CHECK(back.to_json() == no_slip.to_json());
+    CHECK(scene("").to_json().find(R"("slip": "wall")") != std::string::npos);  // the resolved scene says which
+    // A scene built in C++ is checked alike.
+    clsph::Scene dbc = scene(R"(, "method": "dbc")");
+    dbc.wall_slip = clsph::WallSlip::no_slip;
+    CHECK(scene_test::error_of([&] { dbc.validate(); }).find("boundaries.slip: \"no-slip\" needs mDBC walls") !=
+          std::string::npos);
+}
+
 TEST_CASE("to_json writes every default and reads back to the same scene") {
     const clsph::Scene s = clsph::Scene::from_json_text(full_scene, "everything.json");
     const std::string text = s.to_json();

@@ -21,6 +21,10 @@ enum class Diffusion { none, molteni_colagrossi, fourtakas };
 // How boundary particles get their density: dbc, the continuity equation (Crespo et al. 2007);
 // mdbc, from a ghost node mirrored into the fluid (English et al. 2021, docs/scenes.md).
 enum class BoundaryMethod { dbc, mdbc };
+// The velocity the fluid sees at a boundary particle (JSON: boundaries.slip): wall, the wall's
+// own (0 at rest; a moving solid's or body's); no_slip (mdbc only), the fluid's velocity at the
+// particle's ghost node mirrored about the wall's, 2 v_wall - v_G (English et al. 2021).
+enum class WallSlip { wall, no_slip };
 // physics.alpha_wall of a scene file with mDBC walls that does not give one: with it the dam
 // break's surge front is 3.3 % RMS from Koshizuka & Oka at L/dp = 20, h = 2 dp, against 11.6 %
 // without (on the H200; tests/device/test_mdbc.cpp, BENCHMARKS.md).
@@ -261,6 +265,7 @@ struct Scene {
     std::vector<SolidBox> solids;
     std::vector<MeshObject> meshes;
     BoundaryMethod boundary_method = BoundaryMethod::dbc;  // JSON: boundaries.method (files: mdbc, see below)
+    WallSlip wall_slip = WallSlip::wall;                   // JSON: boundaries.slip
     std::vector<Probe> probes;
     std::vector<Inlet> inlets;
     std::vector<Outlet> outlets;

@@ -62,6 +62,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
       form_(interaction_for(form, device)),
       summation_(scene.physics.density == DensityMode::summation),
       mdbc_(scene.boundary_method == BoundaryMethod::mdbc),
+      no_slip_(mdbc_ && scene.wall_slip == WallSlip::no_slip),
       symplectic_(scene.physics.integrator == Integrator::symplectic),
       wg_(device.work_group_size(128)),
       coarse_wg_(device.work_group_size(64)) {
@@ -74,6 +75,8 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     std::string interaction = opts + " -DCLSPH_DIFFUSION=" + std::to_string(diffusion);
     if (summation_) interaction += " -DCLSPH_SUMMATION";
     if (mdbc_) interaction += " -DCLSPH_MDBC";
+    if (no_slip_) wall_options_ = " -DCLSPH_NOSLIP";  // forces, sps, floating and mdbc (wall_velocity.h)
+    interaction += wall_options_;
     if (scene.physics.viscosity != Viscosity::artificial)
         viscosity_options_ = scene.physics.viscosity == Viscosity::laminar ? " -DCLSPH_VISCOSITY=1" : " -DCLSPH_VISCOSITY=2";
     interaction += viscosity_options_;
@@ -88,7 +91,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     }
     if (*device.quirks().interaction_options) interaction += std::string(" ") + device.quirks().interaction_options;
     forces_k_ = device.kernel("forces.cl", "forces", interaction);
-    if (scene.physics.viscosity == Viscosity::laminar_sps) build_sps(opts);
+    if (scene.physics.viscosity == Viscosity::laminar_sps) build_sps(opts + wall_options_);
     if (summation_) density_k_ = device.kernel("density.cl", "summation_density", interaction);
     const std::string integ = opts + " -DWG=" + std::to_string(wg_);
     commit_k_ = device.kernel("integrate.cl", "commit_density", integ);
@@ -99,11 +102,12 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
         correct_k_ = device.kernel("integrate.cl", "symplectic_correct", integ);
     }
     probe_k_ = device.kernel("probes.cl", "probe_points", opts);
-    // mDBC's ghost nodes in the CPU form where the interaction pass runs it (kernels/mdbc.cl).
+    // mDBC's ghost nodes in the CPU form where the interaction pass runs it (kernels/mdbc_lanes.cl).
     if (mdbc_ && form_ == Interaction::lanes)
-        mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary_lanes", opts + " -DCLSPH_LANES=" + std::to_string(kLanes));
+        mdbc_k_ = device.kernel("mdbc_lanes.cl", "mdbc_boundary_lanes",
+                                opts + wall_options_ + " -DCLSPH_LANES=" + std::to_string(kLanes));
     else if (mdbc_)
-        mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts);
+        mdbc_k_ = device.kernel("mdbc.cl", "mdbc_boundary", opts + wall_options_);
     probe_counted_k_ = device.kernel("probes.cl", "probe_points_counted", opts);
     kick_groups_ = sizing::kick_groups(device.info().compute_units);
     partials_ = device.alloc(kick_groups_ * sizing::kKickFloats * sizeof(float), "kick reductions");
@@ -180,40 +184,17 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());
     if (sps_) forces_k_.setArg(a + 3, tau_.get());
+    if (no_slip_) {
+        // The boundary particles' v_wall - v_G of the last pass (kernels/wall_velocity.h): read
+        // from accel while this pass writes `out`, which must be another buffer.
+        if (&out == &ps.accel) throw Error("no-slip walls: the force pass cannot write into the accelerations it reads");
+        forces_k_.setArg(a + (sps_ ? 4 : 3), ps.accel.get());
+    }
     launch("sph.forces", forces_k_);
     // Floating bodies: the fluid's force on them from the boundary densities the fluid has just
     // felt, before the mDBC pass replaces those with the next step's.
     if (floating_bodies_ > 0) enqueue_floating(ps, cells);
-    if (mdbc_) boundary_densities(ps, cells);
-}
-
-void Physics::set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id) {
-    ghost_count_ = by_id.size();
-    std::vector<float> raw(4 * std::max<std::size_t>(ghost_count_, 1), 0.0f);
-    for (std::size_t i = 0; i < ghost_count_; ++i)
-        for (int k = 0; k < 3; ++k) raw[4 * i + k] = by_id[i][k];
-    ghost_ = cl_rt::Buffer();
-    ghost_ = device_.alloc(raw.size() * sizeof(float), "mDBC ghost nodes");
-    device_.write(ghost_, raw.data(), raw.size());
-    if (motion_segments_ > 0) {  // the offsets at rest, which turn_ghost_nodes turns into ghost_
-        ghost_rest_ = cl_rt::Buffer();
-        ghost_rest_ = device_.alloc(raw.size() * sizeof(float), "mDBC ghost nodes at rest");
-        device_.write(ghost_rest_, raw.data(), raw.size());
-    }
-}
-
-void Physics::boundary_densities(ParticleStore& ps, const CellPipeline& cells) {
-    const std::size_t n = ps.ranges.owned;
-    if (n == 0 || !mdbc_) return;
-    if (!ghost_) set_ghost_nodes({});
-    if (motion_segments_ > 0) turn_ghost_nodes(ps);
-    cl_rt::set_args(mdbc_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), cells.cells(), cells.cell_count(),
-                    cl_uint{cells.counted_on_device() ? 1u : 0u}, grid_.params(), sp_, ps.pos, cells.cell_key(),
-                    cells.cell_start(), ps.velrho, ps.id, ghost_, ghost_count_, halt_);
-    if (form_ == Interaction::lanes)
-        device_.launch("sph.mdbc", mdbc_k_, cells.cells(), 1);  // a work-item per cell, as forces
-    else
-        device_.launch("sph.mdbc", mdbc_k_, n, wg_);
+    if (mdbc_) boundary_densities(ps, cells, out);
 }
 
 void Physics::kick_drift(ParticleStore& ps, double dt) {

@@ -62,15 +62,21 @@ public:
     // ps.accel. With floating bodies, then the fluid's force on them (enqueue_floating); with
     // mDBC, then the owned boundary particles' densities from their ghost nodes (kernels/mdbc.cl),
     // in place: the next step's forces use them (the bodies' force used the same densities as
-    // the fluid's).
+    // the fluid's). With no-slip walls the passes read the boundary particles' v_wall - v_G from
+    // ps.accel, and the mDBC pass writes the next into `out` (kernels/wall_velocity.h): `out`
+    // may not be ps.accel then.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp), at
     // rest; with a motion (set_motion first) the offsets of moving solids turn with them before
     // each mDBC pass (kernels/motion.cl, turn_ghost_nodes).
     bool mdbc() const { return mdbc_; }
     void set_ghost_nodes(const std::vector<std::array<float, 3>>& by_id);
-    // The mDBC pass alone (forces() runs it).
+    // The mDBC pass alone (forces() runs it; physics_mdbc.cpp). With no-slip walls it also writes
+    // each owned boundary particle's v_wall - v_G into the xyz of `wall_seen` (kernels/mdbc.cl;
+    // ps.scratch when not given), keeping w.
+    bool no_slip() const { return no_slip_; }
     void boundary_densities(ParticleStore& ps, const CellPipeline& cells);
+    void boundary_densities(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& wall_seen);
     // laminar+sps (kernels/sps.cl): every held particle's sub-particle-scale stress into tau()
     // (forces() runs it first; ghosts of the inner halo column get their owner's bits).
     bool sps() const { return sps_; }
@@ -154,6 +160,8 @@ private:
     Interaction form_;
     bool summation_;
     bool mdbc_;
+    bool no_slip_;              // mDBC no-slip walls (boundaries.slip)
+    std::string wall_options_;  // -DCLSPH_NOSLIP for forces, sps, floating and mdbc
     bool symplectic_;
     cl::Kernel predict_k_, correct_k_;
     cl::Kernel mdbc_k_;

@@ -17,7 +17,7 @@ void Physics::set_floating(const FloatingTable& table) {
     floating_row_ = table.first_row;
     floating_ids_ = table.ids();
     // The fine scheme always (it skips every particle but the bodies'); the sums in work-groups of wg_.
-    const std::string opts = point_options_ + viscosity_options_ + " -DWG=" + std::to_string(wg_);
+    const std::string opts = point_options_ + viscosity_options_ + wall_options_ + " -DWG=" + std::to_string(wg_);
     floating_k_ = device_.kernel("floating.cl", "floating_forces", opts);
     floating_sums_k_ = device_.kernel("floating.cl", "floating_sums", opts);
     floating_rest_ = device_.alloc(table.body_rest.size() * sizeof(float), "floating body offsets");
@@ -68,6 +68,7 @@ void Physics::enqueue_floating(ParticleStore& ps, const CellPipeline& cells) {
     floating_k_.setArg(i++, floating_rest_.get());
     floating_k_.setArg(i++, cl_rt::checked_uint(floating_ids_));
     floating_k_.setArg(i++, floating_force_.get());
+    if (no_slip_) floating_k_.setArg(i++, ps.accel.get());  // what the fluid saw (wall_velocity.h)
     device_.launch("sph.floating_forces", floating_k_, n, wg_);
     cl_rt::set_args(floating_sums_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), floating_groups_, floating_force_,
                     ps.id, floating_rest_, floating_ids_, floating_partials_);

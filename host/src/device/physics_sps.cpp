@@ -36,6 +36,7 @@ void Physics::sps_stress(ParticleStore& ps, const CellPipeline& cells) {
     sps_k_.setArg(a++, ps.velrho.get());
     sps_k_.setArg(a++, ps.id.get());
     sps_k_.setArg(a++, tau_.get());
+    if (no_slip_) sps_k_.setArg(a++, ps.accel.get());  // the walls' v_wall - v_G (kernels/wall_velocity.h)
     if (coarse)
         device_.launch("sph.sps", sps_k_, cells.cells() * coarse_wg_, coarse_wg_);
     else

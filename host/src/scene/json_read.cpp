@@ -234,8 +234,9 @@ MeshObject read_mesh(const Json& v, const std::string& path, const std::string& 
 }
 
 void read_boundaries(const Json& v, const std::string& base_dir, Scene& s) {
-    Fields f(v, "boundaries", {"walls", "boxes", "meshes", "method"});
+    Fields f(v, "boundaries", {"walls", "boxes", "meshes", "method", "slip"});
     s.boundary_method = f.choice("method", s.boundary_method, {{"dbc", BoundaryMethod::dbc}, {"mdbc", BoundaryMethod::mdbc}});
+    s.wall_slip = f.choice("slip", s.wall_slip, {{"wall", WallSlip::wall}, {"no-slip", WallSlip::no_slip}});
     if (const Json* walls = f.find("walls"))
         for_each_element(*walls, "boundaries.walls", [&](const Json& e, const std::string& path) {
             Fields w(e, path, {"min", "max", "faces", "layers", "motion"});

@@ -151,6 +151,7 @@ Json boundaries(const Scene& s) {
     j["boxes"] = boxes;
     j["meshes"] = meshes;
     j["method"] = s.boundary_method == BoundaryMethod::mdbc ? "mdbc" : "dbc";
+    j["slip"] = s.wall_slip == WallSlip::no_slip ? "no-slip" : "wall";
     return j;
 }
 

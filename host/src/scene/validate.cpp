@@ -299,6 +299,9 @@ void Scene::validate() const {
     }
     check_overlaps(fluids);
 
+    require(wall_slip == WallSlip::wall || boundary_method == BoundaryMethod::mdbc, "boundaries.slip",
+            "\"no-slip\" needs mDBC walls (boundaries.method \"mdbc\"): the mirrored velocity is interpolated at the "
+            "ghost nodes, which \"dbc\" walls do not have");
     for (std::size_t i = 0; i < walls.size(); ++i) {
         const auto& w = walls[i];
         const std::string key = "boundaries.walls[" + std::to_string(i) + "]";
