@@ -23,6 +23,12 @@ std::string shown(std::string_view field);
 // A number as the messages write it (17 digits: the value read, not a rounding of it).
 std::string num(double x);
 
+// A file's first row is a header when its first field starts with a letter.
+inline bool is_header(const std::vector<std::string_view>& fields) {
+    const char f = fields.empty() || fields[0].empty() ? ' ' : fields[0][0];
+    return (f >= 'a' && f <= 'z') || (f >= 'A' && f <= 'Z');
+}
+
 // Throws SceneError "key: path[, where]: what".
 [[noreturn]] void fail(const std::string& key, const std::string& path, const std::string& where, const std::string& what);
 

@@ -76,8 +76,7 @@ MotionCsv read_motion_csv(const std::string& path, const std::string& key) {
         const std::string at = lines.at();
         if (!seen_first) {
             seen_first = true;
-            const char f = fields[0].empty() ? ' ' : fields[0][0];
-            if ((f >= 'a' && f <= 'z') || (f >= 'A' && f <= 'Z')) {  // a header
+            if (csv::is_header(fields)) {
                 if (fields.size() != 4 && fields.size() != 7)
                     fail(at, "the header has " + std::to_string(fields.size()) + " columns (expected 4: time, x, y, z, or 7: and rx, ry, rz in degrees)");
                 columns = fields.size();

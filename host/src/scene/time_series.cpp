@@ -25,8 +25,7 @@ TimeSeries read_series_csv(const std::string& path, const std::string& key, cons
         const std::string at = lines.at();
         if (!seen_first) {
             seen_first = true;
-            const char f = fields[0].empty() ? ' ' : fields[0][0];
-            if ((f >= 'a' && f <= 'z') || (f >= 'A' && f <= 'Z')) {  // a header
+            if (csv::is_header(fields)) {
                 if (fields.size() != 2) lines.fail(at, "the header has " + std::to_string(fields.size()) + " columns (expected " + shape + ")");
                 continue;
             }
