@@ -141,16 +141,17 @@ TEST_CASE("mDBC: bitwise identical on 1, 2 and 3 devices while cuts sweep across
     CHECK(first_difference(balanced, 100) == -1);
 }
 
-TEST_CASE("mDBC no-slip walls: bitwise identical on 1, 2 and 3 devices while cuts sweep (laminar and laminar+sps)") {
+TEST_CASE("mDBC no-slip walls: bitwise identical on 1, 2 and 3 devices while cuts sweep (laminar+sps)") {
     // Each owner writes its boundary particles' v_wall - v_G into their accelerations' xyz
     // (kernels/wall_velocity.h), which every exchange carries with the particle: the ghosts'
-    // mirrored velocities are their owners' bits, on one halo column (laminar) or two (SPS).
+    // mirrored velocities are their owners' bits, on one halo column (laminar) or two (SPS). SPS
+    // only: its laminar term reads the mirror as laminar does, and CI's time is short.
     Scene scene = test::small_dam(0.146 / 8);
     scene.fluids.front().velocity = {1.0, 0.0, 0.0};
     scene.boundary_method = BoundaryMethod::mdbc;
     scene.wall_slip = WallSlip::no_slip;
     scene.physics.kinematic_viscosity = 1e-3;
-    for (const Viscosity model : {Viscosity::laminar, Viscosity::laminar_sps}) {
+    for (const Viscosity model : {Viscosity::laminar_sps}) {
         CAPTURE(model == Viscosity::laminar_sps);
         scene.physics.viscosity = model;
         auto sims = on_1_2_3(scene, [](std::size_t D) {
