@@ -94,6 +94,16 @@ std::vector<std::unique_ptr<Simulation>> on_1_2_3(const Scene& scene, const std:
     return sims;
 }
 
+// Options whose cuts sweep across the domain on D > 1 devices (one device: the defaults).
+Options sweeping_cuts_options(std::size_t D) {
+    Options o;
+    if (D == 1) return o;
+    testing::Seams seams;
+    seams.cut_schedule = test::sweeping_cuts(D);
+    testing::set_seams(o, seams);
+    return o;
+}
+
 }  // namespace
 
 TEST_SUITE("multi_bitwise") {
@@ -106,14 +116,7 @@ TEST_CASE("the same scene on 1, 2 and 3 devices is bitwise identical after 100 s
 
 TEST_CASE("bitwise identical while cuts sweep: narrow slabs, idle devices, particles crossing every step") {
     // The cuts move one or two columns a step, leaving a device with a single column or none.
-    auto sims = on_1_2_3(sliding_dam(0.146 / 8), [](std::size_t D) {
-        Options o;
-        if (D == 1) return o;
-        testing::Seams seams;
-        seams.cut_schedule = test::sweeping_cuts(D);
-        testing::set_seams(o, seams);
-        return o;
-    });
+    auto sims = on_1_2_3(sliding_dam(0.146 / 8), sweeping_cuts_options);
     CHECK(first_difference(sims, 100) == -1);
 }
 
@@ -127,14 +130,7 @@ TEST_CASE("mDBC: bitwise identical on 1, 2 and 3 devices while cuts sweep across
     Scene scene = test::small_dam(0.146 / 8);
     scene.fluids.front().velocity = {1.0, 0.0, 0.0};
     scene.boundary_method = BoundaryMethod::mdbc;
-    auto sims = on_1_2_3(scene, [](std::size_t D) {
-        Options o;
-        if (D == 1) return o;
-        testing::Seams seams;
-        seams.cut_schedule = test::sweeping_cuts(D);
-        testing::set_seams(o, seams);
-        return o;
-    });
+    auto sims = on_1_2_3(scene, sweeping_cuts_options);
     CHECK(first_difference(sims, 100) == -1);
     // And with the balancer choosing the cuts.
     auto balanced = on_1_2_3(scene, [](std::size_t) { return Options{}; });
@@ -151,26 +147,16 @@ TEST_CASE("mDBC no-slip walls: bitwise identical on 1, 2 and 3 devices while cut
     scene.boundary_method = BoundaryMethod::mdbc;
     scene.wall_slip = WallSlip::no_slip;
     scene.physics.kinematic_viscosity = 1e-3;
-    for (const Viscosity model : {Viscosity::laminar_sps}) {
-        CAPTURE(model == Viscosity::laminar_sps);
-        scene.physics.viscosity = model;
-        auto sims = on_1_2_3(scene, [](std::size_t D) {
-            Options o;
-            if (D == 1) return o;
-            testing::Seams seams;
-            seams.cut_schedule = test::sweeping_cuts(D);
-            testing::set_seams(o, seams);
-            return o;
-        });
-        CHECK(first_difference(sims, 100) == -1);
-        Scene wall = scene;  // and the mirror was there: the walls' own velocity gives another flow
-        wall.wall_slip = WallSlip::wall;
-        Options o;
-        o.devices = test::device_spec(1);
-        Simulation plain(wall, o);
-        for (int k = 0; k < 100; ++k) plain.step();
-        CHECK(differing(state_of(plain), state_of(*sims[0])) > 0);
-    }
+    scene.physics.viscosity = Viscosity::laminar_sps;
+    auto sims = on_1_2_3(scene, sweeping_cuts_options);
+    CHECK(first_difference(sims, 100) == -1);
+    Scene wall = scene;  // and the mirror was there: the walls' own velocity gives another flow
+    wall.wall_slip = WallSlip::wall;
+    Options o;
+    o.devices = test::device_spec(1);
+    Simulation plain(wall, o);
+    for (int k = 0; k < 100; ++k) plain.step();
+    CHECK(differing(state_of(plain), state_of(*sims[0])) > 0);
 }
 
 TEST_CASE("laminar viscosity: bitwise identical on 1, 2 and 3 devices while cuts sweep") {
@@ -179,14 +165,7 @@ TEST_CASE("laminar viscosity: bitwise identical on 1, 2 and 3 devices while cuts
     Scene scene = sliding_dam(0.146 / 8);
     scene.physics.viscosity = Viscosity::laminar;
     scene.physics.kinematic_viscosity = 1e-3;
-    auto sims = on_1_2_3(scene, [](std::size_t D) {
-        Options o;
-        if (D == 1) return o;
-        testing::Seams seams;
-        seams.cut_schedule = test::sweeping_cuts(D);
-        testing::set_seams(o, seams);
-        return o;
-    });
+    auto sims = on_1_2_3(scene, sweeping_cuts_options);
     CHECK(first_difference(sims, 100) == -1);
 }
 
@@ -198,14 +177,7 @@ TEST_CASE("laminar+sps: bitwise identical on 1, 2 and 3 devices while cuts sweep
     scene.physics.kinematic_viscosity = 1e-6;
     for (const bool sweep : {true, false}) {
         CAPTURE(sweep);
-        auto sims = on_1_2_3(scene, [&](std::size_t D) {
-            Options o;
-            if (D == 1 || !sweep) return o;
-            testing::Seams seams;
-            seams.cut_schedule = test::sweeping_cuts(D);
-            testing::set_seams(o, seams);
-            return o;
-        });
+        auto sims = on_1_2_3(scene, [&](std::size_t D) { return sweep ? sweeping_cuts_options(D) : Options{}; });
         CHECK(first_difference(sims, 100) == -1);
     }
 }
