@@ -89,7 +89,7 @@ const std::vector<Case> corpus_cases = {
     {"motion_csv_missing.json", "/no_such_motion.csv: cannot open the motion file (No such file or directory)"},
     // Accepted silently before (issue 14): nonsense the scene check now names.
     {"coefsound_negative.json", "physics.coefsound: must be a positive number"},
-    {"dp_larger_than_block.json", "fluid[0]: holds no fluid particle: no point of the dp lattice (dp = 0.02 m) lies in the block"},
+    {"dp_larger_than_block.json", "fluid[0]: holds no fluid particle: no point of the dp lattice (physics.dp = 0.02 m) lies in the block"},
     {"block_between_lattice_points.json", "fluid[0]: holds no fluid particle: no point of the dp lattice"},
     {"walls_on_periodic_axis.json", "boundaries.walls[0].faces: face y- is on the periodic axis y"},
     {"walls_outside_domain.json", "boundaries.walls[0]: its particles span [-0.04, -0.04, -0.04] - [1.13, 0.44, 0.84], outside the domain"},

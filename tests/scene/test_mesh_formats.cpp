@@ -2,6 +2,7 @@
 // OBJ file, give exactly the same particles as the OBJ, for a boundary solid and a fluid fill;
 // every hostile file is a SceneError naming it; scale, rotate and translate place a mesh.
 #include "support.hpp"
+#include "../support/skip.hpp"
 
 #include "clsph/scene.hpp"
 #include "scene/ghost_nodes.hpp"
@@ -547,7 +548,7 @@ TEST_CASE("mDBC ghost nodes of a mesh solid are the same from OBJ, STL and PLY")
 TEST_CASE("the Stanford bunny of glmark2-data as ASCII STL and double PLY fills as its OBJ does") {
     const std::string bunny = "/usr/share/glmark2/models/bunny.obj";
     if (!std::filesystem::exists(bunny)) {
-        MESSAGE("skipped: " << bunny << " is absent (apt-get install glmark2-data)");
+        test_skip::skip(bunny + " is absent (apt-get install glmark2-data)");
         return;
     }
     // Its coordinates are decimal text, not floats: ASCII STL at 17 digits and PLY of doubles keep

@@ -226,7 +226,7 @@ void Scene::validate() const {
                    vec(domain.max);
         });
         require_lazy(lattice_points(f, p.dp) >= 1, key, [&] {
-            return "holds no fluid particle: no point of the dp lattice (dp = " + num(p.dp) + " m) lies in the block " +
+            return "holds no fluid particle: no point of the dp lattice (physics.dp = " + num(p.dp) + " m) lies in the block " +
                    vec(f.min) + " - " + vec(f.max);
         });
     }
