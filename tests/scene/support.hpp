@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdlib>
 #include <random>
 #include <string>
 
@@ -53,9 +54,11 @@ std::string error_of(F&& f) {
     return {};
 }
 
-// A seed from std::random_device, printed so that a failure can be reproduced.
+// A seed from std::random_device, printed so that a failure can be reproduced: CLSPH_TEST_SEED
+// (as the device tests take it) gives it back.
 inline unsigned fresh_seed() {
-    const unsigned seed = std::random_device{}();
+    const char* env = std::getenv("CLSPH_TEST_SEED");
+    const unsigned seed = env && *env ? static_cast<unsigned>(std::stoul(env)) : std::random_device{}();
     MESSAGE("random seed " << seed);
     return seed;
 }
