@@ -116,6 +116,9 @@ public:
     bool here(std::size_t d) const { return ranks_.here(d); }
     bool across_ranks() const { return ranks_.ranks != nullptr; }
     Ranks* ranks() const { return ranks_.ranks; }  // across ranks: this run's; null in one process
+    // Whether this process writes the run's shared files (a checkpoint): in one process yes, across
+    // ranks rank 0 alone.
+    bool writes_shared_files() const { return !across_ranks() || ranks_.ranks->rank() == 0; }
     std::vector<std::size_t> cuts() const { return Partition::cuts(slabs_); }
     std::size_t owned() const;
     std::size_t columns() const { return partition_.columns(); }

@@ -75,7 +75,7 @@ Checkpoint Simulation::checkpoint() {
 
 void Simulation::save(const std::string& path) {
     const Checkpoint c = checkpoint();
-    if (!impl_->options.ranks || impl_->options.ranks->rank() == 0) write_checkpoint(path, c);  // rank 0 writes the file
+    if (impl_->driver.writes_shared_files()) write_checkpoint(path, c);
 }
 
 Particles Simulation::particles() { return impl_->downloads.all(); }
