@@ -4,5 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 build=${CLSPH_BUILD_DIR:-build}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# CLSPH_WERROR=ON (scripts/test.sh sets it): warnings are errors.
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DCLSPH_WERROR="${CLSPH_WERROR:-OFF}" >/dev/null
 cmake --build "$build" -j"$(nproc)"
