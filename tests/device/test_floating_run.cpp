@@ -145,6 +145,68 @@ TEST_CASE("checkpoint and resume with the bodies in motion: bitwise the same as 
     CHECK(test::same_bodies(straight.bodies(), resumed.bodies()));
     CHECK(differing(state_of(straight), state_of(resumed)) == 0);
 }
+
+// A body given an initial velocity and angular velocity (Floating::velocity, angular_velocity):
+// its particles move with V + W x r from t = 0, it turns through W dt in its first step, and a run
+// resumed from a checkpoint goes on bitwise (the checkpoint's state, not the scene's velocities).
+TEST_CASE("a body started with a velocity and an angular velocity moves and turns at them from the first step") {
+    Scene scene = tank();
+    const double V = 0.05, W = 0.5;  // m/s along x, rad/s about y
+    scene.solids[0].floating.velocity = {V, 0, 0};
+    scene.solids[0].floating.angular_velocity = {0, W, 0};
+    Options o;
+    o.devices = test::device_spec(1);
+    Simulation sim(scene, o);
+    const auto b0 = sim.bodies()[0];
+    CHECK(b0.velocity[0] == V);
+    CHECK(b0.angular_velocity[1] == W);
+    // Its particles (the light box's lattice points) at t = 0: V + W x r, r from the centre; the
+    // neutral box, given none, rests.
+    const Particles p = sim.particles();
+    const auto& box = scene.solids[0];
+    std::size_t in_box = 0, at_rest = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.type[i] != ParticleType::boundary) continue;
+        const auto& x = p.position[i];
+        bool in = true;
+        for (int k = 0; k < 3; ++k) in = in && x[k] > box.min[k] - 1e-6 && x[k] < box.max[k] + 1e-6;
+        if (!in) {
+            const auto& v = p.velocity[i];
+            at_rest += v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
+            continue;
+        }
+        ++in_box;
+        const double rx = x[0] - b0.position[0], rz = x[2] - b0.position[2];
+        const double want[3] = {V + W * rz, 0.0, -W * rx};  // W e_y x r
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(p.velocity[i][k] - want[k]));
+    }
+    CHECK(in_box == 6u * 9u * 6u);  // 6 x 9 x 6 lattice points
+    CHECK(worst < 1e-6);
+    CHECK(at_rest > 0);
+    // The first step turns it by W dt (the fluid's torque at t = 0 is the hydrostatic one, small),
+    // and moves it by V dt along x.
+    sim.step();
+    const auto b1 = sim.bodies()[0];
+    const double dt = sim.time(), angle = 2.0 * std::atan2(b1.quaternion[2], b1.quaternion[0]);
+    MESSAGE("first step " << dt << " s: turned " << angle << " rad (W dt " << W * dt << "), moved " << b1.position[0] - b0.position[0]
+                          << " m (V dt " << V * dt << ")");
+    CHECK(angle == doctest::Approx(W * dt).epsilon(0.01));
+    CHECK(b1.position[0] - b0.position[0] == doctest::Approx(V * dt).epsilon(0.01));
+    // A few more steps: still turning that way (the water slows it: its added inertia).
+    for (int i = 0; i < 9; ++i) sim.step();
+    CHECK(sim.bodies()[0].angular_velocity[1] > 0.5 * W);
+    // Checkpoint and resume: bitwise the straight run.
+    const std::string path = (std::filesystem::temp_directory_path() / "clsph_floating_started.clsph").string();
+    sim.save(path);
+    for (int i = 0; i < 10; ++i) sim.step();
+    const Checkpoint c = read_checkpoint(path, &scene);
+    Simulation resumed(scene, c, o);
+    for (int i = 0; i < 10; ++i) resumed.step();
+    std::remove(path.c_str());
+    CHECK(test::same_bodies(sim.bodies(), resumed.bodies()));
+    CHECK(differing(state_of(sim), state_of(resumed)) == 0);
+}
 }
 
 TEST_SUITE("multi_bitwise") {

@@ -111,3 +111,39 @@ TEST_CASE("bad floating bodies are errors naming the file and the key") {
     // A shell (layers > 0) still may not start in the fluid: the fluid would be trapped inside.
     CHECK(error(R"({"density": 500})", "", "dbc", 1).find("overlaps the solid boundaries.boxes[0]") != std::string::npos);
 }
+
+TEST_CASE("a floating body's initial velocity and angular velocity: read, written back, checked against its free axes") {
+    const clsph::Scene s = clsph::Scene::from_json_text(
+        scene_with(R"({"density": 500, "free_translation": [false, false, true], "free_rotation": [false, true, false],
+                       "velocity": [0, 0, -0.1], "angular_velocity": [0, 0.5, 0]})"),
+        "tank.json");
+    CHECK(s.solids[0].floating.velocity == clsph::Vec3{0, 0, -0.1});
+    CHECK(s.solids[0].floating.angular_velocity == clsph::Vec3{0, 0.5, 0});
+    const auto b = clsph::scene::floating_bodies(s);
+    CHECK(b[0].velocity[2] == -0.1);
+    CHECK(b[0].angular_velocity[1] == 0.5);
+    // Written back (run.json, to_json) and read again the same; a body without them writes zeros.
+    const clsph::Scene back = clsph::Scene::from_json_text(s.to_json(), "back.json");
+    CHECK(back.to_json() == s.to_json());
+    CHECK(back.solids[0].floating.angular_velocity == clsph::Vec3{0, 0.5, 0});
+    const clsph::Scene still = clsph::Scene::from_json_text(scene_with(R"({"density": 500})"), "tank.json");
+    CHECK(still.to_json().find("\"angular_velocity\"") != std::string::npos);
+    CHECK(still.solids[0].floating.velocity == clsph::Vec3{0, 0, 0});
+
+    auto error = [](const std::string& floating) {
+        return error_of([&] { (void)clsph::Scene::from_json_text(scene_with(floating), "tank.json"); });
+    };
+    CHECK(error(R"({"density": 500, "velocity": [0, 1]})").find("tank.json: boundaries.boxes[0].floating.velocity: expected 3 numbers") ==
+          0);
+    CHECK(error(R"({"density": 500, "angular_velocity": "fast"})").find("boundaries.boxes[0].floating.angular_velocity: expected 3 numbers") !=
+          std::string::npos);
+    // Along an axis the body may not move on: the integrator would hold it there while it "moved".
+    CHECK(error(R"({"density": 500, "free_translation": [true, false, true], "velocity": [0, 0.2, 0]})")
+              .find("boundaries.boxes[0].floating.velocity: has 0.2 along y, which free_translation holds fixed") != std::string::npos);
+    CHECK(error(R"({"density": 500, "free_rotation": [false, true, false], "angular_velocity": [1, 0, 0]})")
+              .find("boundaries.boxes[0].floating.angular_velocity: has 1 along x, which free_rotation holds fixed") != std::string::npos);
+    // From code: not finite.
+    clsph::Scene t = clsph::Scene::from_json_text(scene_with(R"({"density": 500})"), "tank.json");
+    t.solids[0].floating.angular_velocity[2] = std::nan("");
+    CHECK(error_of([&] { t.validate(); }).find("boundaries.boxes[0].floating.angular_velocity: expected 3 finite numbers") == 0);
+}

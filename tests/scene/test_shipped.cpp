@@ -147,6 +147,55 @@ TEST_CASE("floating_box: a box of density 500 held above a tank's water, free in
     CHECK(c.coincident == 0);
 }
 
+// The decay tests of Sundsdal, Greco, Hanssen & Lugni (2025)'s 2D ship section (docs/scenes.md,
+// floating): B 0.40 m, draft 0.20 m, 46.8 kg over L = 0.586 m, KG 0.106 m, roll radius of
+// gyration 0.36 B, water 1.0 m deep; here a sharp-cornered box in a slice periodic in y.
+TEST_CASE("floating_decay_heave and _roll: the experiment's section per unit length, a tank whose reflections come back late") {
+    const clsph::Scene heave = clsph::Scene::from_file(source_path("scenes/floating_decay_heave.json"));
+    const clsph::Scene roll = clsph::Scene::from_file(source_path("scenes/floating_decay_roll.json"));
+    for (const clsph::Scene* s : {&heave, &roll}) {
+        CAPTURE(s->name);
+        REQUIRE(s->solids.size() == 1);
+        const auto& b = s->solids[0];
+        const auto& f = b.floating;
+        const double dp = s->physics.dp, slice = s->domain.max[1] - s->domain.min[1];
+        const double surface = s->fluids[0].max[2] + 0.5 * dp, keel = b.min[2] - 0.5 * dp;  // particles stand for dp
+        CHECK(s->domain.periodic[1]);
+        CHECK(b.max[1] - b.min[1] + dp == doctest::Approx(slice));  // spans the slice
+        CHECK(b.max[0] - b.min[0] + dp == doctest::Approx(0.40));   // the beam
+        CHECK(surface - s->fluids[0].min[2] - 0.5 * dp == doctest::Approx(1.0));  // the water's depth (floor's face at dp/2)
+        CHECK(f.mass / slice == doctest::Approx(46.8 / 0.586).epsilon(1e-4));    // kg per metre of section
+        REQUIRE(f.centre);
+        CHECK((*f.centre)[2] - keel == doctest::Approx(0.106));                  // KG
+        CHECK((*f.centre)[0] == doctest::Approx(0.5 * (b.min[0] + b.max[0])));
+        REQUIRE(f.inertia);
+        CHECK((*f.inertia)[4] == doctest::Approx(f.mass * 0.144 * 0.144).epsilon(1e-3));  // (0.36 B)^2
+        CHECK(f.free_translation == std::array<bool, 3>{false, false, true});  // heave only: sway held, as the rig
+        // The waves it makes at its natural period (about 1.2 s: 2.1 - 2.5 m long, deep water)
+        // leave at the group speed, about 0.94 m/s; back from the nearer end wall after the run.
+        const double gap = std::min(b.min[0] - s->walls[0].min[0], s->walls[0].max[0] - b.max[0]);
+        CHECK(2 * gap / 0.94 > s->run.end_time);
+        CHECK(s->boundary_method == clsph::BoundaryMethod::mdbc);
+    }
+    // Both start at their rest draft (0.20 m: Archimedes' 0.1997), heave pushed down, roll spun
+    // about the slice's axis with sway held and heave free: a start that moves no water away for
+    // good (a release from 0.02 m higher raised the 6 m tank's level 1.3 mm, a long wave that came
+    // back from the ends within the second period).
+    for (const clsph::Scene* s : {&heave, &roll})
+        CHECK(s->fluids[0].max[2] + 0.5 * s->physics.dp - (s->solids[0].min[2] - 0.5 * s->physics.dp) == doctest::Approx(0.20));
+    CHECK(heave.solids[0].floating.free_rotation == std::array<bool, 3>{false, false, false});
+    CHECK(heave.solids[0].floating.velocity[2] < 0);
+    CHECK(heave.solids[0].floating.angular_velocity == clsph::Vec3{0, 0, 0});
+    CHECK(roll.solids[0].floating.free_rotation == std::array<bool, 3>{false, true, false});
+    CHECK(roll.solids[0].floating.velocity == clsph::Vec3{0, 0, 0});
+    CHECK(roll.solids[0].floating.angular_velocity[1] > 0);
+    const Counts c = build_and_check(roll);
+    // x: 0.01 ... 5.99, z: dp ... 1.0, y: 13 lattice lines; less the box's 40 x 20 x 13 below the surface.
+    CHECK(c.fluid == 599 * 100 * 13 - 40 * 20 * 13);
+    CHECK(c.boundary > 40u * 13u * 26u);
+    CHECK(c.coincident == 0);
+}
+
 TEST_CASE("spheric2: the benchmark case, built at a coarser dp through an override") {
     const clsph::Scene s = clsph::Scene::from_file(source_path("scenes/spheric2.json"));
     CHECK(s.physics.dp == 0.006);

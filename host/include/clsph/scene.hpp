@@ -155,6 +155,10 @@ struct Floating {
     // The axes (x, y, z, world frame) along which it may move and about which it may turn: a body
     // in a slice periodic in y that spans the slice moves in x and z and turns about y only.
     std::array<bool, 3> free_translation{true, true, true}, free_rotation{true, true, true};
+    // The body's velocity (m/s) and angular velocity (rad/s, world frame) at t = 0, its particles
+    // moving with V + W x r from the first force pass: a decay test started with a push or a spin
+    // from its rest pose (the fluid around it stays as the scene builds it). Zero along held axes.
+    Vec3 velocity{0, 0, 0}, angular_velocity{0, 0, 0};
 };
 
 // A solid box of boundary particles: layers inward from its faces (0 layers: filled).

@@ -69,6 +69,8 @@ RigidBodies::RigidBodies(const Scene& scene) : bodies_(scene::floating_bodies(sc
     for (const auto& b : bodies_) {
         BodyState s;
         s.x = s.x_p = b.centre;
+        s.v = s.v_p = b.velocity;  // the scene's initial velocities (zero unless given)
+        s.w = s.w_p = b.angular_velocity;
         state_.push_back(s);
     }
 }

@@ -192,6 +192,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
 }
 
 StepOutcome SlabDriver::start() {
+    start_bodies();  // floating bodies given initial velocities: their particles' before the first forces
     cl_rt::EventSet kicked;
     const Particles* made = created_by(options_.start_time);  // inlets: their buffers, on a new run
     inlet_speeds_ = feed_.speeds(options_.start_time);

@@ -53,6 +53,9 @@ struct DriverOptions {
     // first pass (a checkpoint's; 0 for a new run). Null: a new run's.
     std::optional<scene::InletState> inlet_state;
     double start_time = 0.0;
+    // From a checkpoint: its particles and bodies are the state (restore_owned); a new run's
+    // floating bodies start at the scene's initial velocities instead.
+    bool resumed = false;
 };
 
 struct StepOutcome {
@@ -142,7 +145,9 @@ private:
     void read_force_times();
     // Floating bodies: the poses after the first half of a step (empty without bodies); the sums of
     // every device and rank; the corrector's pose put on every device; the forces taken and kicked.
+    // start_bodies: a new run's bodies given initial velocities put them on their particles.
     void set_up_motion(const Scene& scene);
+    void start_bodies();
     std::vector<std::array<double, 18>> drift_bodies(double dt);
     std::vector<std::int64_t> body_sums();
     void correct_bodies(double dt, double time);

@@ -27,6 +27,25 @@ void SlabDriver::set_up_motion(const Scene& scene) {
     if (floating.bodies > 0) bodies_ = std::make_unique<RigidBodies>(scene);
 }
 
+// A new run whose bodies start moving (Floating::velocity, angular_velocity): their particles,
+// still at rest where the scene put them, take V + W x r before the first force pass, so that the
+// fluid's first forces, the body's first accelerations and the first time step (which counts
+// boundary speeds) see the body as it starts. A resumed run's particles are the checkpoint's.
+void SlabDriver::start_bodies() {
+    if (!bodies_ || options_.resumed) return;
+    bool moving = false;
+    for (const auto& s : bodies_->states())
+        for (int k = 0; k < 3; ++k) moving = moving || s.v[k] != 0 || s.w[k] != 0;
+    if (!moving) return;  // no launch: runs without initial velocities are as they were
+    const auto poses = bodies_->poses();
+    for_each_device([&](std::size_t d) {
+        Slab& s = slabs_[d];
+        s.physics->set_floating_poses(poses);
+        s.physics->move_solids(*s.store, options_.start_time, 0.0, 1.0);  // the rest pose: positions unchanged
+        s.device->flush();
+    });
+}
+
 std::vector<std::array<double, 18>> SlabDriver::drift_bodies(double dt) {
     if (!bodies_) return {};
     if (symplectic_)

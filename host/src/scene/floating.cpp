@@ -36,6 +36,8 @@ std::vector<FloatingBody> floating_bodies(const Scene& scene) {
         f.solid = i;
         f.free_translation = b.floating.free_translation;
         f.free_rotation = b.floating.free_rotation;
+        f.velocity = b.floating.velocity;
+        f.angular_velocity = b.floating.angular_velocity;
         std::vector<Vec3> pts;
         sample_solid(b, dp, pts);
         f.count = pts.size();
@@ -103,6 +105,17 @@ void check_floating(const Scene& scene) {
         if (f.centre)
             for (int k = 0; k < 3; ++k)
                 require(std::isfinite((*f.centre)[k]), key + ".centre", "expected 3 finite numbers");
+        // The initial velocities: finite, and none along an axis the body may not move or turn on
+        // (the integrator holds those components at 0).
+        auto initial = [&](const char* what, const Vec3& v, const std::array<bool, 3>& free, const char* mask) {
+            for (int k = 0; k < 3; ++k) {
+                require(std::isfinite(v[k]), key + "." + what, "expected 3 finite numbers");
+                require(v[k] == 0 || free[k], key + "." + what,
+                        "has " + num(v[k]) + " along " + "xyz"[k] + ", which " + mask + " holds fixed");
+            }
+        };
+        initial("velocity", f.velocity, f.free_translation, "free_translation");
+        initial("angular_velocity", f.angular_velocity, f.free_rotation, "free_rotation");
         if (f.inertia) {
             const auto& m = *f.inertia;
             for (double x : m) require(std::isfinite(x), key + ".inertia", "expected finite numbers (kg m^2)");

@@ -21,6 +21,7 @@ struct FloatingBody {
     std::array<double, 9> inertia{};  // kg m^2 about the centre, at rest, row-major
     std::size_t count = 0;        // its particles
     std::array<bool, 3> free_translation{true, true, true}, free_rotation{true, true, true};
+    Vec3 velocity{0, 0, 0}, angular_velocity{0, 0, 0};  // at t = 0 (m/s, rad/s)
 };
 
 // The floating bodies of a scene, in the order of boundaries.boxes.

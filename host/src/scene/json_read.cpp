@@ -175,9 +175,10 @@ Motion read_motion_of(Fields& f, const Scene& scene, const std::string& base_dir
 }
 
 // A floating body: {"density" | "mass", "centre", "inertia" (9 numbers row-major or 3: the
-// diagonal), "name"}. Values are checked by Scene::validate.
+// diagonal), "name", the free axes, the initial "velocity" and "angular_velocity"}. Values are checked by Scene::validate.
 Floating read_floating(const Json& v, const std::string& path) {
-    Fields f(v, path, {"density", "mass", "centre", "inertia", "name", "free_translation", "free_rotation"});
+    Fields f(v, path, {"density", "mass", "centre", "inertia", "name", "free_translation", "free_rotation", "velocity",
+                       "angular_velocity"});
     Floating b;
     b.enabled = true;
     b.name = f.text("name", "");
@@ -186,6 +187,8 @@ Floating read_floating(const Json& v, const std::string& path) {
     if (!f.find("density") && !f.find("mass")) key_error(path, "needs \"density\" (kg/m^3) or \"mass\" (kg)");
     if (f.find("density") && f.find("mass")) key_error(f.path_of("mass"), "give density or mass, not both");
     if (f.find("centre")) b.centre = read_vec3(*f.find("centre"), f.path_of("centre"));
+    if (f.find("velocity")) b.velocity = read_vec3(*f.find("velocity"), f.path_of("velocity"));
+    if (f.find("angular_velocity")) b.angular_velocity = read_vec3(*f.find("angular_velocity"), f.path_of("angular_velocity"));
     if (const Json* in = f.find("inertia")) {
         const std::string at = f.path_of("inertia");
         if (!in->is_array() || (in->size() != 3 && in->size() != 9))

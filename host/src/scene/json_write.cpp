@@ -49,6 +49,8 @@ void put_floating(Json& j, const Floating& f) {
     for (auto [key, mask] : {std::pair<const char*, const std::array<bool, 3>*>{"free_translation", &f.free_translation},
                              std::pair<const char*, const std::array<bool, 3>*>{"free_rotation", &f.free_rotation}})
         o[key] = Json::array({(*mask)[0], (*mask)[1], (*mask)[2]});
+    o["velocity"] = vec(f.velocity);
+    o["angular_velocity"] = vec(f.angular_velocity);
     j["floating"] = o;
 }
 

@@ -88,6 +88,7 @@ multi::DriverOptions driver_options(const Scene& scene, const Options& options, 
         d.inlet_state = scene::InletState{c->inlet_next_id, c->inlet_layers};
     }
     if (c) d.start_time = c->time;  // inlets, outlet zones: the first pass's time
+    d.resumed = c != nullptr;
     return d;
 }
 
