@@ -4,7 +4,9 @@
 #include "device/cell_pipeline.hpp"
 #include "clsph/error.hpp"
 #include "support/test_devices.hpp"
+
 #include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>

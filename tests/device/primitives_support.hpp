@@ -4,7 +4,9 @@
 #include "clsph/error.hpp"
 #include "device/primitives.hpp"
 #include "support/test_devices.hpp"
+
 #include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <numeric>

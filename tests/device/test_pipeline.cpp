@@ -1,4 +1,5 @@
 // The cell pipeline and the neighbour loop against brute force, on every device.
+#include "pipeline_support.hpp"
 #include "device/cell_pipeline.hpp"
 #include "clsph/error.hpp"
 #include "support/test_devices.hpp"
@@ -10,7 +11,6 @@
 #include <cstring>
 #include <map>
 #include <set>
-#include "pipeline_support.hpp"
 
 using namespace clsph;
 using namespace clsph::device;

@@ -1,15 +1,17 @@
 // The exchange's edge layout on every device against the host: arrivals around a sorted middle, the
 // edges sorted alone (the rest of the cell pipeline: test_pipeline.cpp).
+#include "pipeline_support.hpp"
 #include "device/cell_pipeline.hpp"
 #include "clsph/error.hpp"
 #include "support/test_devices.hpp"
+
 #include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
 #include <set>
-#include "pipeline_support.hpp"
 
 using namespace clsph;
 using namespace clsph::device;

@@ -6,6 +6,7 @@
 // partial last one, and a recursive scan of the tile sums); key widths 1..32 at a few tiles, three
 // widths at the large size. The same sizes on every device (rusticl included): the suite stays
 // within about a minute on a 2-core CI machine with three CPU devices and a cold pocl cache.
+#include "primitives_support.hpp"
 #include "clsph/error.hpp"
 #include "device/primitives.hpp"
 #include "support/test_devices.hpp"
@@ -18,7 +19,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-#include "primitives_support.hpp"
 
 using namespace clsph;
 

@@ -1,17 +1,19 @@
 // The radix sort against std::stable_sort on every device, fresh random keys (seed printed), poisoned
 // outputs: every size, every key width, stability, other digit widths, borrowed buffers, bad arguments
 // (the sizes and the checks: primitives_support.hpp; scan and compaction: test_primitives.cpp).
+#include "primitives_support.hpp"
 #include "clsph/error.hpp"
 #include "device/primitives.hpp"
 #include "support/test_devices.hpp"
+
 #include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
-#include "primitives_support.hpp"
 
 using namespace clsph;
 using namespace primitives_test;

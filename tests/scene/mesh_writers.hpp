@@ -7,6 +7,7 @@
 #include "scene/ghost_nodes.hpp"
 #include "scene/mesh.hpp"
 #include "scene/mesh_formats.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <array>
@@ -38,7 +39,9 @@ inline Mesh triangulated(const Mesh& m) {
     return t;
 }
 
-inline Mesh icosphere(int levels, double r) {
+// An icosahedron subdivided `levels` times, its vertices pushed onto the sphere of radius r and, by
+// default, rounded to float (binary STL holds nothing finer; the OBJ and PLY then hold the same).
+inline Mesh icosphere(int levels, double r, bool float_vertices = true) {
     const double g = (1.0 + std::sqrt(5.0)) / 2.0;
     Mesh s;
     s.v = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
@@ -65,7 +68,7 @@ inline Mesh icosphere(int levels, double r) {
     }
     for (auto& p : s.v) {
         const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        for (auto& c : p) c = static_cast<float>(c * r / n);
+        for (auto& c : p) c = float_vertices ? static_cast<float>(c * r / n) : c * r / n;
     }
     return s;
 }

@@ -1,6 +1,7 @@
 // OBJ meshes sampled onto the dp lattice: inside-point counts of a cube and an icosphere, boundary
 // layers, the OBJ forms we accept, and the errors for meshes we cannot use.
 #include "support.hpp"
+#include "mesh_writers.hpp"
 
 #include "scene/mesh.hpp"
 #include "scene/mesh_obj.hpp"
@@ -23,60 +24,14 @@ const char* cube_obj =
     "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
     "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
 
-struct Icosphere {
-    std::vector<std::array<double, 3>> v;
-    std::vector<std::array<int, 3>> f;  // 0-based
-};
-
-// An icosahedron subdivided `levels` times, vertices pushed onto the sphere of radius r.
-Icosphere icosphere(int levels, double r) {
-    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    Icosphere s;
-    s.v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    s.f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-           {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-    for (int l = 0; l < levels; ++l) {
-        std::map<std::pair<int, int>, int> middle;
-        auto mid = [&](int a, int b) {
-            const auto key = std::minmax(a, b);
-            auto it = middle.find(key);
-            if (it != middle.end()) return it->second;
-            s.v.push_back({(s.v[a][0] + s.v[b][0]) / 2, (s.v[a][1] + s.v[b][1]) / 2, (s.v[a][2] + s.v[b][2]) / 2});
-            return middle[key] = static_cast<int>(s.v.size() - 1);
-        };
-        std::vector<std::array<int, 3>> next;
-        for (const auto& f : s.f) {
-            const int a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
-            for (const std::array<int, 3>& tri : {std::array<int, 3>{f[0], a, c}, std::array<int, 3>{f[1], b, a},
-                                                std::array<int, 3>{f[2], c, b}, std::array<int, 3>{a, b, c}})
-                next.push_back(tri);
-        }
-        s.f = next;
-    }
-    for (auto& p : s.v) {
-        const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        for (auto& c : p) c *= r / n;
-    }
-    return s;
-}
-
 // Volume enclosed by the polyhedron (divergence theorem over its triangles).
-double volume(const Icosphere& s) {
+double volume(const mesh_test::Mesh& s) {
     double v = 0;
     for (const auto& f : s.f) {
         const auto &a = s.v[f[0]], &b = s.v[f[1]], &c = s.v[f[2]];
         v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
     }
     return std::abs(v) / 6.0;
-}
-
-std::string obj_text(const Icosphere& s) {
-    std::ostringstream o;
-    o.precision(17);
-    for (const auto& p : s.v) o << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-    for (const auto& f : s.f) o << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << '\n';
-    return o.str();
 }
 
 struct Sampled {
@@ -136,8 +91,8 @@ TEST_CASE("quads, v/vt/vn indices and negative indices read as the same cube") {
 TEST_CASE("an icosphere holds its volume in lattice points") {
     scene_test::TempDir dir;
     const std::string path = dir.file("icosphere.obj");
-    const Icosphere s = icosphere(3, 1.0);
-    scene_test::write_text(path, obj_text(s));
+    const mesh_test::Mesh s = mesh_test::icosphere(3, 1.0, false);
+    scene_test::write_text(path, mesh_test::obj_text(s));
     const double dp = 0.05, v = volume(s);
     const double filled = static_cast<double>(sample(path, dp, true).fluid.size());
     const double expected = v / (dp * dp * dp);

@@ -4,7 +4,7 @@
 // test_mesh_placement.cpp).
 #include "support.hpp"
 #include "../support/skip.hpp"
-
+#include "mesh_writers.hpp"
 #include "clsph/scene.hpp"
 #include "scene/ghost_nodes.hpp"
 #include "scene/mesh.hpp"
@@ -19,7 +19,6 @@
 #include <map>
 #include <sstream>
 #include <vector>
-#include "mesh_writers.hpp"
 
 using scene_test::error_of;
 

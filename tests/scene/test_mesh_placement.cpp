@@ -2,10 +2,12 @@
 // same from OBJ, STL and PLY (the formats themselves: test_mesh_formats.cpp).
 #include "support.hpp"
 #include "../support/skip.hpp"
+#include "mesh_writers.hpp"
 #include "clsph/scene.hpp"
 #include "scene/ghost_nodes.hpp"
 #include "scene/mesh.hpp"
 #include "scene/mesh_formats.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <array>
@@ -15,7 +17,6 @@
 #include <map>
 #include <sstream>
 #include <vector>
-#include "mesh_writers.hpp"
 
 using scene_test::error_of;
 using namespace mesh_test;
