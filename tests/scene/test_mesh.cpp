@@ -14,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+using mesh_test::sample;
 using scene_test::error_of;
 
 namespace {
@@ -34,22 +35,6 @@ double volume(const mesh_test::Mesh& s) {
     return std::abs(v) / 6.0;
 }
 
-struct Sampled {
-    std::vector<clsph::Vec3> boundary, fluid;
-};
-
-Sampled sample(const std::string& path, double dp, bool fluid, int layers = 3, double scale = 1.0, clsph::Vec3 translate = {0, 0, 0}) {
-    clsph::MeshObject m;
-    m.path = path;
-    m.fluid = fluid;
-    m.layers = layers;
-    m.scale = scale;
-    m.translate = translate;
-    Sampled s;
-    clsph::scene::sample_mesh(m, dp, s.boundary, s.fluid);
-    return s;
-}
-
 }  // namespace
 
 TEST_CASE("a unit cube holds the lattice points of a closed unit box") {
@@ -59,11 +44,11 @@ TEST_CASE("a unit cube holds the lattice points of a closed unit box") {
     // On the lattice: faces included, as for a solid box.
     CHECK(sample(path, 0.1, true).fluid.size() == 11 * 11 * 11);
     // Off the lattice by half a spacing: points 0.1 ... 1.0 on each axis.
-    CHECK(sample(path, 0.1, true, 3, 1.0, {0.05, 0.05, 0.05}).fluid.size() == 10 * 10 * 10);
+    CHECK(sample(path, 0.1, true, 3, {0.05, 0.05, 0.05}).fluid.size() == 10 * 10 * 10);
     // Scaled: a 2 m cube at dp 0.25.
-    CHECK(sample(path, 0.25, true, 3, 2.0).fluid.size() == 9 * 9 * 9);
+    CHECK(sample(path, 0.25, true, 3, {0, 0, 0}, {0, 0, 0}, 2.0).fluid.size() == 9 * 9 * 9);
     // Boundary layers: the points less than 2 dp deep, like a SolidBox with 2 layers.
-    const Sampled shell = sample(path, 0.1, false, 2);
+    const mesh_test::Sampled shell = sample(path, 0.1, false, 2);
     CHECK(shell.fluid.empty());
     CHECK(shell.boundary.size() == 11 * 11 * 11 - 7 * 7 * 7);
     // Every point is on the lattice.
@@ -100,7 +85,7 @@ TEST_CASE("an icosphere holds its volume in lattice points") {
     CHECK(std::abs(filled / expected - 1.0) < 0.02);
 
     // Off-centre and off-lattice: the same count within the same tolerance.
-    const double moved = static_cast<double>(sample(path, dp, true, 3, 1.0, {0.0123, -0.0311, 0.0277}).fluid.size());
+    const double moved = static_cast<double>(sample(path, dp, true, 3, {0.0123, -0.0311, 0.0277}).fluid.size());
     CHECK(std::abs(moved / expected - 1.0) < 0.02);
 
     // Boundary shell of 3 layers: about the volume between the sphere and one 3 dp smaller.
