@@ -97,6 +97,151 @@ __kernel void INTERACTION_NAME(const uint first, const uint last, const GridPara
     }
 }
 
+#elif defined(CLSPH_CLUSTERS) && defined(CLSPH_PAIR_WG)
+
+// cluster pairs in lock-step (the GPU form of the cluster lists): PAIR_LANES work-items per
+// i-cluster of CS particles (work-groups of CLSPH_PAIR_WG, a multiple of PAIR_LANES). Lane l
+// computes member l % CS of the i-cluster against the candidates of its slot l / CS, one of
+// PAIR_SLOTS. Every lane of an i-cluster walks the same list in step, so no lane diverges on
+// loop control and only the support test masks work: per row, the listed j-clusters are taken
+// PAIR_JC at a time (slot k takes member k % CS of the (k / CS)-th), and a row tested whole
+// (more particles than a mask covers however its cells' clusters are numbered) PAIR_SLOTS
+// particles at a time (slot k the k-th). Each lane sums its slot's pairs in list order; at the end
+// slot 0 adds slots 1, 2, ... in turn (STATE_MERGE). Which pairs a slot gets depends only on the
+// particles, their order and the lists, never on device counts or cluster numbering: results are
+// bitwise the same on any number of devices (not the fine form's bits: another summation order).
+// The interaction file defines, besides the fine interface:
+//   STATE_MERGE(st, other)   statement adding the sums of STATE_T other into st
+#if CLSPH_MASK_BITS == 64
+#define MASK_T ulong
+#define MASK_LOW(m) (63u - (uint)clz((m) & (0ul - (m))))
+#else
+#define MASK_T uint
+#define MASK_LOW(m) (31u - clz((m) & (0u - (m))))
+#endif
+#define CS CLSPH_CLUSTERS
+#define PAIR_LANES 32u
+#define PAIR_SLOTS (PAIR_LANES / CS)
+#define PAIR_JC (PAIR_SLOTS / CS)
+// A row of at most ROWS_A cells and PAIR_MASKED_MAX particles spans at most CLSPH_MASK_BITS
+// cluster indices (gaps included) wherever its cells start: such rows, and only they, use masks.
+#define PAIR_MASKED_MAX (CS * (CLSPH_MASK_BITS - ROWS_A - 1u))
+#define PAIR_NONE 0xffffffffu
+
+#define PAIR_CANDIDATE(j)                                                             \
+    do {                                                                              \
+        const float4 pj = pos[j];                                                     \
+        float3 rij = pj.xyz + row_offset;                                             \
+        COMP(rij, AXIS_B) += (float)((int)(pos_key(pj) - centre)) * g.cell_b;         \
+        const float r2 = dot(rij, rij);                                               \
+        if (r2 < support2) {                                                          \
+            NEIGHBOUR_T nb;                                                           \
+            nb.pos = pj;                                                              \
+            LOAD_NEIGHBOUR(nb, j);                                                    \
+            PAIR(st, self, nb, i, j, rij, r2);                                        \
+        }                                                                             \
+    } while (0)
+
+__kernel __attribute__((reqd_work_group_size(CLSPH_PAIR_WG, 1, 1))) void INTERACTION_NAME(
+    const uint first, const uint last, const GridParams g, const float support2, __global const float4* pos,
+    __global const uint* cell_of, __global const uint2* ranges, __global const uint* cell_start,
+    __global const uint* cluster_begin, __global const MASK_T* masks INTERACTION_ARGS) {
+    __local STATE_T slots[CLSPH_PAIR_WG];
+    const uint lid = (uint)get_local_id(0);
+    const uint ii = lid % CS, slot = (lid % PAIR_LANES) / CS, jsub = slot / CS, jm = slot % CS;
+    // The i-clusters of [first, last): first starts a column, so a cluster; this group's are the next.
+    uint id_first, id_end;
+    {
+        const uint c = cell_of[first], s = cell_start[c];
+        id_first = c + s / CS + (first - s) / CS;
+        const uint cl = cell_of[last - 1u], sl = cell_start[cl];
+        id_end = cl + sl / CS + (last - 1u - sl) / CS + 1u;
+    }
+    const uint id = id_first + (uint)get_global_id(0) / PAIR_LANES;
+    uint cb = 0u, ce = 0u;
+    if (id < id_end) {
+        cb = max(cluster_begin[id], first);
+        ce = min(cluster_begin[id + 1u], last);
+    }
+    const bool own = cb + ii < ce;
+    const uint i = own ? cb + ii : cb;
+    bool run = cb < ce;  // the same for the PAIR_LANES lanes of the cluster
+    NEIGHBOUR_T self;
+    STATE_T st;
+    if (run) {
+        self.pos = pos[i];
+        LOAD_NEIGHBOUR(self, i);
+        STATE_INIT(st, i, self);
+#ifdef SKIP_PARTICLE
+        bool any = false;  // a member that needs the loop
+        for (uint m = cb; m < ce; ++m) {
+            const uint i = m;
+            NEIGHBOUR_T other;
+            other.pos = pos[m];
+            LOAD_NEIGHBOUR(other, m);
+            any = any || !SKIP_PARTICLE(other);
+        }
+        run = any;
+#endif
+    }
+    if (run) {
+        const uint c = cell_of[cb];
+        const uint key_i = pos_key(self.pos);
+        const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
+        const uint b_i = key_b(g, key_i);
+        for (uint r = 0; r < ROWS; ++r) {
+            const uint2 range = ranges[c * ROWS + r];
+            if (range.x >= range.y) continue;
+            const int ds = row_ds(r), da = row_da(r);
+            int a2 = a_i + da;
+            if (a2 < 0) a2 += (int)g.n_a;
+            if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+            const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
+            float3 row_offset = -self.pos.xyz;
+            COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
+            COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
+            if (range.y - range.x > PAIR_MASKED_MAX) {
+                for (uint base = range.x; base < range.y; base += PAIR_SLOTS) {
+                    const uint j = base + slot;
+                    if (own && j < range.y) PAIR_CANDIDATE(j);
+                }
+                continue;
+            }
+            const uint jc0 = cell_of[range.x] + range.x / CS;
+            MASK_T m = masks[id * ROWS + r];
+            while (m != 0) {
+                uint mine = PAIR_NONE;
+                for (uint t = 0; t < PAIR_JC; ++t)
+                    if (m != 0) {
+                        if (t == jsub) mine = jc0 + MASK_LOW(m);
+                        m &= m - (MASK_T)1;
+                    }
+                if (own && mine != PAIR_NONE) {
+                    const uint j = cluster_begin[mine] + jm;
+                    if (j < cluster_begin[mine + 1u]) PAIR_CANDIDATE(j);
+                }
+            }
+        }
+    }
+    if (run) slots[lid] = st;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (!own || slot != 0u) return;
+    if (!run) {
+#ifdef SKIP_PARTICLE
+        STORE_SKIPPED(i);
+#endif
+        return;
+    }
+#ifdef SKIP_PARTICLE
+    if (SKIP_PARTICLE(self)) {
+        STORE_SKIPPED(i);
+        return;
+    }
+#endif
+    for (uint k = 1; k < PAIR_SLOTS; ++k) STATE_MERGE(st, slots[lid + k * CS]);
+    STATE_STORE(st, i);
+}
+
 #elif defined(CLSPH_CLUSTERS)
 
 // clusters: a work-item per particle, as fine, but each row's candidates come from the cluster-pair
