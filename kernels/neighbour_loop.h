@@ -147,6 +147,7 @@ __kernel __attribute__((reqd_work_group_size(CLSPH_PAIR_WG, 1, 1))) void INTERAC
     __global const uint* cell_of, __global const uint2* ranges, __global const uint* cell_start,
     __global const uint* cluster_begin, __global const MASK_T* masks INTERACTION_ARGS) {
     __local STATE_T slots[CLSPH_PAIR_WG];
+    __local uint2 staged[(CLSPH_PAIR_WG / PAIR_LANES) * CLSPH_MASK_BITS];
     const uint lid = (uint)get_local_id(0);
     const uint ii = lid % CS, slot = (lid % PAIR_LANES) / CS, jsub = slot / CS, jm = slot % CS;
     // The i-clusters of [first, last): first starts a column, so a cluster; this group's are the next.
@@ -184,43 +185,53 @@ __kernel __attribute__((reqd_work_group_size(CLSPH_PAIR_WG, 1, 1))) void INTERAC
         run = any;
 #endif
     }
-    if (run) {
-        const uint c = cell_of[cb];
-        const uint key_i = pos_key(self.pos);
-        const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
-        const uint b_i = key_b(g, key_i);
-        for (uint r = 0; r < ROWS; ++r) {
-            const uint2 range = ranges[c * ROWS + r];
-            if (range.x >= range.y) continue;
-            const int ds = row_ds(r), da = row_da(r);
-            int a2 = a_i + da;
-            if (a2 < 0) a2 += (int)g.n_a;
-            if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
-            const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
-            float3 row_offset = -self.pos.xyz;
-            COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
-            COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
-            if (range.y - range.x > PAIR_MASKED_MAX) {
-                for (uint base = range.x; base < range.y; base += PAIR_SLOTS) {
-                    const uint j = base + slot;
-                    if (own && j < range.y) PAIR_CANDIDATE(j);
-                }
-                continue;
-            }
+    // Per row, the listed j-clusters' particle ranges are staged in local memory (lane t of the
+    // cluster's lanes stages bit t: its place is the count of set bits below it), so the walk
+    // loads them from there, independent of each other, rather than through the mask.
+    __local uint2* mine = staged + (lid / PAIR_LANES) * CLSPH_MASK_BITS;
+    const uint lane = lid % PAIR_LANES;
+    const uint c = run ? cell_of[cb] : 0u;
+    const uint key_i = run ? pos_key(self.pos) : 0u;
+    const int s_i = (int)key_s(g, key_i), a_i = (int)key_a(g, key_i);
+    const uint b_i = key_b(g, key_i);
+    for (uint r = 0; r < ROWS; ++r) {  // every work-item of the group runs every row: barriers
+        const uint2 range = run ? ranges[c * ROWS + r] : (uint2)(0u, 0u);
+        const bool some = range.x < range.y;
+        const bool masked = some && range.y - range.x <= PAIR_MASKED_MAX;
+        uint listed = 0u;
+        barrier(CLK_LOCAL_MEM_FENCE);  // the last row's walk is done with `staged`
+        if (masked) {
             const uint jc0 = cell_of[range.x] + range.x / CS;
-            MASK_T m = masks[id * ROWS + r];
-            while (m != 0) {
-                uint mine = PAIR_NONE;
-                for (uint t = 0; t < PAIR_JC; ++t)
-                    if (m != 0) {
-                        if (t == jsub) mine = jc0 + MASK_LOW(m);
-                        m &= m - (MASK_T)1;
-                    }
-                if (own && mine != PAIR_NONE) {
-                    const uint j = cluster_begin[mine] + jm;
-                    if (j < cluster_begin[mine + 1u]) PAIR_CANDIDATE(j);
+            const MASK_T m = masks[id * ROWS + r];
+            listed = (uint)popcount(m);
+            for (uint t = lane; t < CLSPH_MASK_BITS; t += PAIR_LANES)
+                if ((m >> t) & (MASK_T)1) {
+                    const uint at = (uint)popcount(m & ((((MASK_T)1) << t) - (MASK_T)1));
+                    mine[at] = (uint2)(cluster_begin[jc0 + t], cluster_begin[jc0 + t + 1u]);
                 }
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (!some) continue;
+        const int ds = row_ds(r), da = row_da(r);
+        int a2 = a_i + da;
+        if (a2 < 0) a2 += (int)g.n_a;
+        if (a2 >= (int)g.n_a) a2 -= (int)g.n_a;
+        const uint centre = make_key(g, (uint)(s_i + ds), (uint)a2, b_i);
+        float3 row_offset = -self.pos.xyz;
+        COMP(row_offset, AXIS_S) += (float)ds * g.cell_s;
+        COMP(row_offset, AXIS_A) += (float)da * g.cell_a;
+        if (!masked) {
+            for (uint base = range.x; base < range.y; base += PAIR_SLOTS) {
+                const uint j = base + slot;
+                if (own && j < range.y) PAIR_CANDIDATE(j);
             }
+            continue;
+        }
+#pragma unroll 2
+        for (uint k = jsub; k < (listed + PAIR_JC - 1u) / PAIR_JC * PAIR_JC; k += PAIR_JC) {
+            const uint2 be = k < listed ? mine[k] : (uint2)(0u, 0u);
+            const uint j = be.x + jm;
+            if (own && j < be.y) PAIR_CANDIDATE(j);
         }
     }
     if (run) slots[lid] = st;
