@@ -166,8 +166,7 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
                     1e3 * s.max, ratio, deviation.c_str());
     }
     std::printf("\n%.3g neighbour pairs (self excluded) per force pass\n", hits - double(n));
-    if (std::find(forms.begin(), forms.end(), Interaction::clusters) != forms.end() ||
-        std::find(forms.begin(), forms.end(), Interaction::cluster_pairs) != forms.end())
+    if (std::find(forms.begin(), forms.end(), Interaction::clusters) != forms.end()) 
         cluster_counts(d, ps, cp, grid, support2, warmup, repeats, candidates);
 }
 

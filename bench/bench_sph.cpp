@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--until", until, "simulated seconds to time");
     app.add_option("--interaction", interaction, "interaction form: auto | fine | lanes | coarse | clusters")
-        ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters", "cluster-pairs"}));
+        ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters"}));
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
     app.add_option("--slabs", slabs, "open each device as N slabs (what several slabs cost, on one device)");

@@ -38,11 +38,6 @@ typedef struct {
         (st).mw += sp.mass * w;                               \
         (st).vw += sp.mass / (nb).rho * w;                    \
     } while (0)
-#define STATE_MERGE(st, other) \
-    do {                       \
-        (st).mw += (other).mw; \
-        (st).vw += (other).vw; \
-    } while (0)
 #define STATE_STORE(st, i) \
     rho_out[i] = !(st).fluid ? (st).rho : ((st).vw < 0.95f ? fmax((st).mw, sp.rho0) : (st).mw)
 

@@ -147,11 +147,6 @@ inline void force_pair(ForceState* st, const SphParams* sp, const ForceNeighbour
 #else
 #define BOUNDARY_DRHO(drho) (drho)
 #endif
-#define STATE_MERGE(st, other)        \
-    do {                              \
-        (st).acc += (other).acc;      \
-        (st).drho += (other).drho;    \
-    } while (0)
 #define STATE_STORE(st, i)                                                                      \
     do {                                                                                        \
         float4 out = (float4)(0.0f, 0.0f, 0.0f, BOUNDARY_DRHO((st).drho));                      \

@@ -55,7 +55,7 @@ void add_device_options(CLI::App& run, RunArgs& a) {
     run.add_option("--interaction", a.interaction,
                    "interaction form on every device: auto (lanes on pocl CPUs, fine on GPUs and rusticl), fine, lanes, coarse, "
                    "clusters (default: the scene's run.interaction)")
-        ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters", "cluster-pairs"}))
+        ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters"}))
         ->type_name("NAME")
         ->group(devices_group);
     run.add_flag("--synchronous", a.synchronous,

@@ -13,7 +13,6 @@ enum class Interaction {
     lanes,      // a work-item per cell, its particles in 8 or 16 vector lanes (the CPU form)
     coarse,     // a work-group per cell, neighbour rows staged in local memory (the paper's scheme)
     clusters,   // a work-item per particle, candidates from cluster-pair lists (docs/interaction.md)
-    cluster_pairs,  // 32 work-items per cluster of 4, the same lists walked in lock-step (docs/interaction.md)
 };
 
 // "auto", "fine", "lanes", "coarse", "clusters".

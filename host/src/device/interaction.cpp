@@ -13,8 +13,7 @@ constexpr Named kNames[] = {{Interaction::automatic, "auto"},
                             {Interaction::fine, "fine"},
                             {Interaction::lanes, "lanes"},
                             {Interaction::coarse, "coarse"},
-                            {Interaction::clusters, "clusters"},
-                            {Interaction::cluster_pairs, "cluster-pairs"}};
+                            {Interaction::clusters, "clusters"}};
 }  // namespace
 
 const char* interaction_name(Interaction form) {
@@ -33,7 +32,7 @@ Interaction interaction_from_name(const std::string& name) {
 }
 
 std::vector<Interaction> interaction_forms() {
-    return {Interaction::fine, Interaction::lanes, Interaction::coarse, Interaction::clusters, Interaction::cluster_pairs};
+    return {Interaction::fine, Interaction::lanes, Interaction::coarse, Interaction::clusters};
 }
 
 }  // namespace clsph

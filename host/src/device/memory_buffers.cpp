@@ -269,11 +269,8 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                     scene.boundary_method == BoundaryMethod::mdbc,
                     ahead,
                     census.any_boundary,
-                    [&] {
-                        const Interaction f =
-                            options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
-                        return f == Interaction::clusters || f == Interaction::cluster_pairs;
-                    }(),
+                    (options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction) ==
+                        Interaction::clusters,
                     scene.physics.viscosity == Viscosity::laminar_sps,
                     grid_of(scene).reach(),
                     census.max_boundary_id,

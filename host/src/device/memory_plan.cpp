@@ -126,7 +126,7 @@ MemoryPlan plan_memory(const Scene& scene, const MemoryCensus& census, const std
     const Interaction asked = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
     MemoryPlan plan = plan_form(scene, census, devices, options);
     plan.interaction = asked;
-    if ((asked != Interaction::clusters && asked != Interaction::cluster_pairs) || plan.fits()) return plan;
+    if (asked != Interaction::clusters || plan.fits()) return plan;
     Options fine = options;
     fine.interaction = Interaction::fine;
     MemoryPlan without = plan_form(scene, census, devices, fine);

@@ -53,8 +53,6 @@ namespace {
 // two); on the 2-core EPYC development machine, SPHERIC-2 at dp 0.02: 16 lanes 44 ms, 8 lanes 64 ms
 // per force pass (pocl pthread; BENCHMARKS.md).
 constexpr std::size_t kLanes = 16;
-// The cluster-pairs form: work-groups of 4 i-clusters (32 work-items each).
-constexpr std::size_t kPairGroup = 128;
 }  // namespace
 
 Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, Interaction form)
@@ -86,10 +84,8 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
     case Interaction::clusters:
-    case Interaction::cluster_pairs:
         clusters_ = std::make_unique<ClusterList>(device, grid, sp_.support2);
         interaction += clusters_->kernel_options();
-        if (form_ == Interaction::cluster_pairs) interaction += " -DCLSPH_PAIR_WG=" + std::to_string(kPairGroup);
         break;
     default: break;
     }
@@ -165,8 +161,6 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
             device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
         else if (form_ == Interaction::lanes)
             device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
-        else if (form_ == Interaction::cluster_pairs)  // 32 work-items per cluster index the owned particles may have
-            device_.launch(name, k, 32 * sizing::cluster_indices(n, cells.cells()), kPairGroup);
         else
             device_.launch(name, k, n, wg_);
     };

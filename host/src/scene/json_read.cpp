@@ -310,7 +310,7 @@ RunControl read_run(const Json& v) {
     r.interaction = f.choice("interaction", r.interaction,
                              {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, 
                               {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse},
-                              {"clusters", Interaction::clusters}, {"cluster-pairs", Interaction::cluster_pairs}});
+                              {"clusters", Interaction::clusters}});
     return r;
 }
 
