@@ -36,18 +36,18 @@ void ClusterList::reserve(std::size_t indices, std::size_t scratch_bytes) {
     capacity_ = indices;
 }
 
-void ClusterList::build(ParticleStore& ps, const CellPipeline& cells) {
+void ClusterList::build(ParticleStore& ps, const CellPipeline& cells, std::size_t first, std::size_t last) {
     reserve(sizing::cluster_indices(ps.capacity(), cells.cell_capacity()), ps.scratch.bytes());
     const std::size_t k = cells.cells();
-    if (k == 0 || ps.ranges.owned == 0) return;
+    if (k == 0 || last <= first) return;
     // The boxes are needed only here: in the reorder scratch, which is free until the pass writes
     // its results (or the summation densities) there, where they fit.
     const cl_rt::Buffer& boxes = boxes_ ? boxes_ : ps.scratch;
     cl_rt::set_args(boxes_k_, k, capacity_, cells.cell_start(), ps.pos, begin_, boxes);
     device_.launch("sph.clusters.boxes", boxes_k_, k, wg_);
-    cl_rt::set_args(masks_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), grid_.params(), support2_, ps.pos,
+    cl_rt::set_args(masks_k_, first, last, grid_.params(), support2_, ps.pos,
                     ps.vals, cells.ranges(), cells.cell_key(), cells.cell_start(), boxes, masks_);
-    device_.launch("sph.clusters.list", masks_k_, ps.ranges.owned, wg_);
+    device_.launch("sph.clusters.list", masks_k_, last - first, wg_);
     ++builds_;
 }
 

@@ -19,7 +19,11 @@ public:
     std::string kernel_options() const;
     // The lists of the owned particles' clusters for the tables `cells` holds now (neighbours: every
     // cluster of the tables, halo included).
-    void build(ParticleStore& ps, const CellPipeline& cells);
+    void build(ParticleStore& ps, const CellPipeline& cells) {
+        build(ps, cells, ps.ranges.first_owned(), ps.ranges.end_owned());
+    }
+    // The lists of the clusters of particles [first, last) (summation density: every particle held).
+    void build(ParticleStore& ps, const CellPipeline& cells, std::size_t first, std::size_t last);
     const cl_rt::Buffer& begins() const { return begin_; }
     const cl_rt::Buffer& masks() const { return masks_; }
     cl_rt::Buffer& begins() { return begin_; }  // (tests poison them)

@@ -297,9 +297,11 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                              "particles' ghost nodes lie beyond the halo; the split here does not, so a cut may move "
                              "by a column or two");
     }
-    if (D > 1 && c.sps) {
-        plan.notes.push_back("several devices with laminar+sps: the exchange sends two halo columns, not the one the "
-                             "split here counts, so each store holds a column more of ghosts either side");
+    if (D > 1 && (c.sps || c.scene.physics.density == DensityMode::summation)) {
+        plan.notes.push_back(std::string("several devices with ") +
+                             (c.sps ? "laminar+sps" : "summation density") +
+                             ": the exchange sends two halo columns, not the one the split here counts, so each store "
+                             "holds a column more of ghosts either side");
     }
     plan.notes.push_back("the cell tables are sized for the non-empty cells at the start (+ cell headroom); they grow "
                          "when the fluid spreads over more cells");

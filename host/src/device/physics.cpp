@@ -130,11 +130,13 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
 
 namespace {
 // Arguments common to every interaction kernel of neighbour_loop.h (the clusters form's lists
-// after the ranges); returns the index of the interaction file's first argument after sp.
-cl_uint set_loop_args(cl::Kernel& k, const ParticleStore& ps, const CellPipeline& cells, const GridParams& g,
-                      const SphParams& sp, bool per_cell, const ClusterList* clusters) {
-    k.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
-    k.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+// after the ranges), for particles [first, last); returns the index of the interaction file's
+// first argument after sp.
+cl_uint set_loop_args(cl::Kernel& k, std::size_t first, std::size_t last, const ParticleStore& ps,
+                      const CellPipeline& cells, const GridParams& g, const SphParams& sp, bool per_cell,
+                      const ClusterList* clusters) {
+    k.setArg(0, static_cast<cl_uint>(first));
+    k.setArg(1, static_cast<cl_uint>(last));
     k.setArg(2, g);
     k.setArg(3, sp.support2);
     k.setArg(4, ps.pos.get());
@@ -156,30 +158,37 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     floating_summed_ = false;  // the bodies' sums of an earlier pass (the calibration's) are not this one's
     if (n == 0) return;
     const auto g = grid_.params();
-    auto launch = [&](const char* name, cl::Kernel& k) {
+    auto launch = [&](const char* name, cl::Kernel& k, std::size_t count) {
         if (form_ == Interaction::coarse)
             device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
         else if (form_ == Interaction::lanes)
             device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
         else
-            device_.launch(name, k, n, wg_);
+            device_.launch(name, k, count, wg_);
     };
     const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
-    if (clusters_) clusters_->build(ps, cells);  // positions and tables are new every step
+    // Summation densities of every particle held, ghosts included: the force pass reads those of
+    // the inner halo column, whose neighbours the second halo column holds (SlabDriver::set_up). The
+    // outer column's are incomplete and never read; the next exchange replaces all ghosts. So the
+    // forces see the step's densities on every device count, as on one device (issue 33's find).
+    const std::size_t first = summation_ ? 0 : ps.ranges.first_owned();
+    const std::size_t last = summation_ ? ps.ranges.active() : ps.ranges.end_owned();
+    if (clusters_) clusters_->build(ps, cells, first, last);  // positions and tables are new every step
     if (summation_) {
-        const cl_uint a = set_loop_args(density_k_, ps, cells, g, sp_, per_cell, clusters_.get());
+        const cl_uint a = set_loop_args(density_k_, first, last, ps, cells, g, sp_, per_cell, clusters_.get());
         density_k_.setArg(a, ps.velrho.get());
         density_k_.setArg(a + 1, ps.id.get());
         density_k_.setArg(a + 2, ps.scratch.get());  // free between reorders: new densities
-        launch("sph.density", density_k_);
-        commit_k_.setArg(0, static_cast<cl_uint>(ps.ranges.first_owned()));
-        commit_k_.setArg(1, static_cast<cl_uint>(ps.ranges.end_owned()));
+        launch("sph.density", density_k_, last - first);
+        commit_k_.setArg(0, static_cast<cl_uint>(first));
+        commit_k_.setArg(1, static_cast<cl_uint>(last));
         commit_k_.setArg(2, ps.scratch.get());
         commit_k_.setArg(3, ps.velrho.get());
-        device_.launch("sph.commit_density", commit_k_, n, wg_);
+        device_.launch("sph.commit_density", commit_k_, last - first, wg_);
     }
     if (sps_) sps_stress(ps, cells);  // with the step's final densities
-    const cl_uint a = set_loop_args(forces_k_, ps, cells, g, sp_, per_cell, clusters_.get());
+    const cl_uint a = set_loop_args(forces_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), ps, cells, g, sp_,
+                                    per_cell, clusters_.get());
     forces_k_.setArg(a, ps.velrho.get());
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());
@@ -190,7 +199,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         if (&out == &ps.accel) throw Error("no-slip walls: the force pass cannot write into the accelerations it reads");
         forces_k_.setArg(a + (sps_ ? 4 : 3), ps.accel.get());
     }
-    launch("sph.forces", forces_k_);
+    launch("sph.forces", forces_k_, n);
     // Floating bodies: the fluid's force on them from the boundary densities the fluid has just
     // felt, before the mDBC pass replaces those with the next step's.
     if (floating_bodies_ > 0) enqueue_floating(ps, cells);

@@ -34,7 +34,11 @@ SlabDriver::SlabDriver(const std::vector<cl_rt::Device*>& devices, const device:
 void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* host,
                         const scene::LatticePlan* plan) {
     const device::Grid& grid = partition_.grid();
-    if (scene.physics.viscosity == Viscosity::laminar_sps) partition_.set_halo(2);  // kernels/sps.cl
+    // Passes before the force pass whose results the force pass reads from neighbours (the SPS
+    // stress, summation densities) run over the inner halo column too, so it needs its own
+    // neighbours: a second halo column (kernels/sps.cl, Physics::forces).
+    if (scene.physics.viscosity == Viscosity::laminar_sps || scene.physics.density == DensityMode::summation)
+        partition_.set_halo(2);
     // Across ranks: the slabs of rank 0 first, then rank 1's, ...; only this rank's have devices.
     std::size_t first_here = 0;
     std::size_t D = devices.size();
