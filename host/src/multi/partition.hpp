@@ -42,7 +42,7 @@ public:
     device::KeyRange keys_of(const Need& need) const;
 
     std::vector<Need> needs(const std::vector<Slab>& slabs) const;
-    void set_halo(std::size_t columns) { halo_ = columns; }  // 1, or 2 with laminar+sps
+    void set_halo(std::size_t columns) { halo_ = columns; }  // 1, or 2 with laminar+sps or summation density
     std::size_t owner_of(std::uint32_t key, const std::vector<Slab>& slabs) const;
     static std::vector<std::size_t> cuts(const std::vector<Slab>& slabs);
     // Checks `cuts` (devices + 1 non-decreasing columns from 0 to the column count) and sets them;
