@@ -71,6 +71,7 @@ private:
     struct Plan {
         Merge merge = Merge::all;
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
+        std::uint32_t left_top = 0xffffffffu, right_bottom = 0;  // the edges' bounds (device::EdgeSort)
     };
     void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted);
     Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
