@@ -52,7 +52,7 @@ std::size_t Exchange::sort_uploaded() {
     return removed;
 }
 
-std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
+std::size_t Exchange::run(const PerDevice& then, const Particles* created, const PerDevice& before) {
     const std::size_t D = slabs_.size();
     need_ = partition_.needs(slabs_);
     created_ = created && created->size() > 0 ? created : nullptr;
@@ -70,7 +70,7 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
     }
     std::vector<Block> blocks;
     std::vector<char> presorted(D, 0);
-    settle_and_gather(false, blocks, presorted);
+    settle_and_gather(false, blocks, presorted, before);
     std::size_t removed = 0, jumped = 0;
     for (std::size_t d = 0; d < D; ++d) {
         if (!ranks_.here(d)) continue;
@@ -113,7 +113,8 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
     return removed;
 }
 
-void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted) {
+void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted,
+                                 const PerDevice& before) {
     PhaseTimer t(phases_, "exchange: settle and gather");
     const std::size_t D = slabs_.size();
     cl_rt::EventSet gathered;
@@ -121,6 +122,7 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
     for_each_device_([&](std::size_t d) {
         Slab& s = slabs_[d];
         auto& ps = *s.store;
+        if (before) before(d);  // the step's drift: the settle follows it in the queue
         if (!wide) s.cells->enqueue_settle(ps, partition_.keys_of(need_[d]), gathered);
         // What each other device needs from this one lies in a window: one column wider on either
         // side than its columns, within what this device owned (or, `wide`, all of that).
