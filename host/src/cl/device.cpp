@@ -98,17 +98,11 @@ void Device::read_bytes(const Buffer& src, void* dst, std::size_t bytes, std::si
          [&] { return queue_.enqueueReadBuffer(src.get(), CL_TRUE, offset, bytes, dst); });
 }
 
-void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done, On on,
-                        const EventSet* after) {
+void Device::read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done, On on) {
     if (!bytes) return;
-    std::vector<cl::Event> wait;
-    if (after) wait = after->events_of(*this);
-    // What the read waits for must be submitted, or a queue could wait on a command never sent.
-    if (!wait.empty()) call(std::nullopt, "clFlush", "submitting the compute queue", [&] { return queue_.flush(); });
     cl::Event ev;
     call(testing::FaultCall::read, "clEnqueueReadBuffer", "reading a buffer", [&] {
-        return (on == On::transfer ? transfer_queue_ : queue_)
-            .enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, wait.empty() ? nullptr : &wait, &ev);
+        return (on == On::transfer ? transfer_queue_ : queue_).enqueueReadBuffer(src.get(), CL_FALSE, offset, bytes, dst, nullptr, &ev);
     });
     if (profiler_.enabled() && !profiler_.host_timed()) profiler_.add_event("transfer.read", ev);
     done.add(*this, std::move(ev));

@@ -86,11 +86,9 @@ public:
     // memory may be used (read) or reused (write).
     // On the transfer queue they run beside the compute queue's work: nothing orders them against
     // it, so they must not touch what it touches until an event says so (barrier()).
-    // `after`: this device's events (of either queue) the read waits for, e.g. a transfer-queue
-    // read of what a compute-queue kernel wrote.
     enum class On { compute, transfer };
     void read_async(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset, EventSet& done,
-                    On on = On::compute, const EventSet* after = nullptr);
+                    On on = On::compute);
     void write_async(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset, EventSet& done,
                      On on = On::compute);
     // The compute queue's next commands wait for this device's events in `after` (e.g. writes on

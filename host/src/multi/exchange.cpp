@@ -18,7 +18,7 @@ Exchange::Exchange(const Partition& partition, std::vector<Slab>& slabs, ForEach
       always_wide_(always_wide),
       ranks_(std::move(ranks)) {}
 
-StagedLink& Exchange::link(std::size_t from, std::size_t to) {
+Link& Exchange::link(std::size_t from, std::size_t to) {
     auto& l = links_[{from, to}];
     if (!l) l = std::make_unique<StagedLink>(*slabs_[from].device, *slabs_[to].device);
     return *l;
@@ -70,8 +70,7 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created, const
     }
     std::vector<Block> blocks;
     std::vector<char> presorted(D, 0);
-    cl_rt::EventSet fetched;
-    settle_and_gather(false, blocks, presorted, fetched, before);
+    settle_and_gather(false, blocks, presorted, before);
     std::size_t removed = 0, jumped = 0;
     for (std::size_t d = 0; d < D; ++d) {
         if (!ranks_.here(d)) continue;
@@ -85,12 +84,9 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created, const
         jumped = static_cast<std::size_t>(n[1]);
     }
     if ((jumped > 0 || always_wide_) && D > 1) {  // the windows may miss a particle: send from whole slabs
-        // The windows' reads must be done before the outboxes are gathered again.
-        fetched.wait("reading particles for the neighbouring devices", wait_);
-        for (auto& [pair, l] : links_) l->forget_prefetch();
         blocks.clear();
         std::fill(presorted.begin(), presorted.end(), 0);
-        settle_and_gather(true, blocks, presorted, fetched);
+        settle_and_gather(true, blocks, presorted);
     }
     std::vector<std::size_t> from_left(D, 0), from_right(D, 0);
     for (const auto& b : blocks) {
@@ -109,7 +105,7 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created, const
     std::vector<Plan> plans(D);
     for (std::size_t e = 0; e < D; ++e)
         if (ranks_.here(e)) plans[e] = plan(e, presorted[e], from_left[e], from_right[e], created_for_[e].size());
-    send(blocks, plans, fetched);
+    send(blocks, plans);
     {
         PhaseTimer t(phases_, "exchange: receive, merge and tables");
         for_each_device_([&](std::size_t e) { receive_and_merge(e, blocks, plans[e], then); });
@@ -118,17 +114,11 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created, const
 }
 
 void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted,
-                                 cl_rt::EventSet& fetched, const PerDevice& before) {
+                                 const PerDevice& before) {
     PhaseTimer t(phases_, "exchange: settle and gather");
     const std::size_t D = slabs_.size();
     cl_rt::EventSet gathered;
     std::vector<std::vector<Block>> sent(D);
-    // Each window to a device of this process goes to the host as soon as it is gathered, before
-    // its count is known (StagedLink::prefetch); the links are made here, not on the device threads.
-    if (!wide)
-        for (std::size_t d = 0; d < D; ++d)
-            for (std::size_t e = 0; e < D; ++e)
-                if (d != e && ranks_.here(d) && ranks_.here(e) && !need_[e].empty()) link(d, e);
     for_each_device_([&](std::size_t d) {
         Slab& s = slabs_[d];
         auto& ps = *s.store;
@@ -160,10 +150,7 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
         std::size_t base = 0;
         for (std::size_t k = 0; k < windows.size(); ++k) {
             const auto& w = windows[k];
-            cl_rt::EventSet counted;
-            s.cells->enqueue_gather(ps, w.first, w.end, partition_.keys_of(need_[w.e]), s.outbox, base, k, counted);
-            if (!wide && ranks_.here(w.e)) links_.at({d, w.e})->prefetch(s.outbox, base, w.end - w.first, counted, fetched);
-            for (auto& ev : counted.events_of(*s.device)) gathered.add(*s.device, std::move(ev));
+            s.cells->enqueue_gather(ps, w.first, w.end, partition_.keys_of(need_[w.e]), s.outbox, base, k, gathered);
             sent[d].push_back({d, w.e, k, base});
             base += w.end - w.first;
         }
@@ -176,7 +163,6 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
                                                                  ps.ranges.end_owned(), ps.ranges.active(),
                                                                  partition_.keys_of(need_[d]), false});
         s.device->flush();
-        s.device->transfer_queue().flush();  // the windows' reads wait only for their gathers
     });
     for (const auto& v : sent) blocks.insert(blocks.end(), v.begin(), v.end());
     gathered.wait("gathering particles for the neighbouring devices", wait_);
@@ -224,7 +210,7 @@ Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_le
     return p;
 }
 
-void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& plans, cl_rt::EventSet& fetched) {
+void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& plans) {
     PhaseTimer t(phases_, "exchange: send beside the kept sort");
     cl_rt::EventSet sent;
     for_each_device_([&](std::size_t d) {
@@ -242,7 +228,6 @@ void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& p
         }
     });
     sent.wait("sending particles to the neighbouring devices", wait_);
-    fetched.wait("sending particles to the neighbouring devices", wait_);
 }
 
 void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then) {
@@ -268,7 +253,7 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
             } else {
                 const auto b = std::find_if(blocks.begin(), blocks.end(), [&](const Block& x) { return x.d == d && x.e == e; });
                 if (b == blocks.end()) continue;
-                StagedLink& l = *links_.at({d, e});
+                Link& l = *links_.at({d, e});
                 l.receive(s.inbox, to, written);
                 got = l.count();
             }

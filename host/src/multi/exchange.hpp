@@ -74,15 +74,13 @@ private:
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
         std::uint32_t left_top = 0xffffffffu, right_bottom = 0;  // the edges' bounds (device::EdgeSort)
     };
-    // `fetched`: the windows the links read ahead of the gather counts (StagedLink::prefetch).
-    void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted, cl_rt::EventSet& fetched,
-                           const PerDevice& before = {});
+    void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted, const PerDevice& before = {});
     Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
-    void send(const std::vector<Block>& blocks, const std::vector<Plan>& plans, cl_rt::EventSet& fetched);
+    void send(const std::vector<Block>& blocks, const std::vector<Plan>& plans);
     void receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then);
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
     static void remember_columns(Slab& s);
-    StagedLink& link(std::size_t from, std::size_t to);
+    Link& link(std::size_t from, std::size_t to);
     // Counts to and from slabs of other ranks (after the gathers; before the plans).
     void send_remote_counts(const std::vector<Block>& blocks);
     std::vector<std::size_t> remote_arrivals(std::size_t e, bool left);
@@ -99,7 +97,7 @@ private:
     std::vector<Need> need_;
     const Particles* created_ = nullptr;
     std::vector<std::vector<std::size_t>> created_for_;  // per slab: indices into *created_
-    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<StagedLink>> links_;
+    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
     RankMap ranks_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteSendLink>> remote_send_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteReceiveLink>> remote_receive_;

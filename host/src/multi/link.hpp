@@ -45,19 +45,9 @@ public:
 
 // Staging through pinned host memory of the sender's context (it works across contexts and
 // vendors; the receiver's side measured the same: BENCHMARKS.md, second pass).
-//
-// prefetch() starts taking a whole window [first, first + window) once the events in `after` are
-// done, before the count of what it holds is known; the next send() of a block at the same `first`
-// then only names its count (at most the window), and `fetched` must be waited for before
-// receive(). Reading the window instead of the block costs bytes and saves the host's round trip
-// for the count before the read (the exchange's gather counts).
 class StagedLink final : public Link {
 public:
     StagedLink(cl_rt::Device& from, cl_rt::Device& to) : from_(from), to_(to) {}
-    void prefetch(const device::ParticleArrays& src, std::size_t first, std::size_t window, const cl_rt::EventSet& after,
-                  cl_rt::EventSet& fetched);
-    // A prefetch whose send() will not come (its events waited for): the next send() reads again.
-    void forget_prefetch() { window_ = 0; }
     void send(const device::ParticleArrays& src, std::size_t first, std::size_t n, cl_rt::EventSet& sent) override;
     void receive(device::ParticleArrays& dst, std::size_t to, cl_rt::EventSet& received) override;
     std::size_t count() const override { return n_; }
@@ -67,8 +57,6 @@ private:
     cl_rt::Device& to_;
     cl_rt::PinnedHost staging_;
     std::size_t n_ = 0;
-    std::size_t window_ = 0;  // prefetched, not sent yet
-    std::size_t stride_ = 0;  // elements between the staged arrays (the window, or n)
 };
 
 }  // namespace clsph::multi
