@@ -167,17 +167,29 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
     if (edge_scratch_bytes(m) > ps.scratch.bytes())
         throw Error("edge sort of " + std::to_string(m) + " particles does not fit the reorder scratch");
     const auto bound = [&](std::uint32_t k) { return std::clamp(k, e.keys.lo, e.keys.hi); };
+    // Just above the last valid key below k: a column's keys do not fill its 2^shift_s codes (the
+    // a and b parts stop at n_a and n_b), and no valid key lies between, so an upper bound there
+    // sorts the same and may need a bit less (SPHERIC-2 at dp 0.006: two columns in 16 bits, not 17).
+    const GridParams& g = grid_.params();
+    const auto tight = [&](std::uint32_t k) {
+        if (k == 0 || g.shift_s >= 32) return k;
+        const std::uint32_t c = std::min<std::uint32_t>((k - 1) >> g.shift_s, g.n_s - 1);
+        const std::uint64_t last = std::uint64_t{grid_.key(c, g.n_a - 1, g.n_b - 1)} + 1;
+        return static_cast<std::uint32_t>(std::min<std::uint64_t>(k, last));
+    };
     // The left edge: every key from left_top up sorts as left_top; the right edge: every key below
     // right_bottom as right_bottom. Those particles were kept, in sorted order, and come after
     // (before) every other entry of their edge, so a stable sort leaves them where the full keys
     // would: the order, within cells too, is the same.
-    if (e.left > 0) sort_edge(ps, 0, e.left, e.left, e, e.keys.lo, bound(e.left_top));
-    if (e.end > e.right) sort_edge(ps, e.right, e.end - e.right, e.valid_right, e, bound(e.right_bottom), e.keys.hi);
+    if (e.left > 0) sort_edge(ps, 0, e.left, e.left, e, e.keys.lo, tight(bound(e.left_top)));
+    if (e.end > e.right)
+        sort_edge(ps, e.right, e.end - e.right, e.valid_right, e, bound(e.right_bottom), tight(e.keys.hi));
 }
 
 void CellPipeline::sort_edge(ParticleStore& ps, std::size_t first, std::size_t count, std::size_t kept,
                              const EdgeSort& e, std::uint32_t code_lo, std::uint32_t code_hi) {
     auto& d = device_;
+    code_hi = std::max(code_hi, code_lo);  // bounds that cross (a cut moved past them): one code
     // Codes 0 .. code_hi - code_lo (valid keys) and one more (dropped): the bits that hold them.
     const std::uint64_t codes = std::uint64_t{code_hi} - code_lo + 2;
     unsigned bits = 1;
