@@ -82,7 +82,7 @@ __kernel void flag_key_range(const uint first, const uint end, const uint key_lo
     flags[i - first] = key >= key_lo && key < key_hi;
 }
 
-// The edges' particles in sorted order (order[j]: where entry j comes from) into four regions of
+// An edge's particles in sorted order (order[j]: where entry j comes from) into four regions of
 // the scratch buffer, m entries each: positions, velocity+density, acceleration, ids.
 __kernel void edge_gather(const uint m, __global const uint* order, __global const float4* pos,
                           __global const float4* velrho, __global const float4* accel, __global const uint* id,
@@ -96,14 +96,13 @@ __kernel void edge_gather(const uint m, __global const uint* order, __global con
     ((__global uint*)(scratch + 3u * m))[j] = id[i];
 }
 
-// And back into place: entries [0, left) to particles [0, left), entries [left, left + kept_right)
-// to particles [right, right + kept_right) (the rest, dropped keys, sorted last, stay out).
-__kernel void edge_place(const uint m, const uint left, const uint right, const uint kept_right,
-                         __global const float4* scratch, __global float4* pos, __global float4* velrho,
-                         __global float4* accel, __global uint* id) {
+// And back into place: entries [0, kept) to particles [first, first + kept) (the rest, dropped
+// keys, sorted last, stay out).
+__kernel void edge_place(const uint m, const uint first, const uint kept, __global const float4* scratch,
+                         __global float4* pos, __global float4* velrho, __global float4* accel, __global uint* id) {
     const uint j = get_global_id(0);
-    if (j >= left + kept_right) return;
-    const uint i = j < left ? j : right + (j - left);
+    if (j >= kept) return;
+    const uint i = first + j;
     pos[i] = scratch[j];
     velrho[i] = scratch[m + j];
     accel[i] = scratch[2u * m + j];
@@ -144,21 +143,24 @@ __kernel void gather_uint(const uint n, const uint dst_offset, __global const ui
     dst[dst_offset + i] = src[order[i]];
 }
 
-// The two edges of an almost sorted array, for a small sort of their own (several devices: what
-// arrived from the neighbours was placed before and after the sorted particles this device kept).
-// Entry j of [0, left + end - right) stands for particle i = j below `left`, else right + j - left:
-// keys[j] = its key from pos.w, vals[j] = i. Particles [drop_first, drop_end) are the ones the sort
-// before dropped (stale ghosts keep an old key in pos.w), and keys outside [key_lo, key_hi) are no
-// longer needed here: both get invalid_key.
-__kernel void edge_keys(const uint left, const uint right, const uint end, const uint drop_first, const uint drop_end,
-                        const uint key_lo, const uint key_hi, const uint invalid_key, __global const float4* pos,
-                        __global uint* keys, __global uint* vals) {
+// One edge of an almost sorted array, for a small sort of its own (several devices: what arrived
+// from the neighbours was placed before and after the sorted particles this device kept). Entry j
+// of [0, count) stands for particle i = first + j: keys[j] = its sort code, vals[j] = i. Particles
+// [drop_first, drop_end) are the ones the sort before dropped (stale ghosts keep an old key in
+// pos.w) and keys outside [key_lo, key_hi) are no longer needed here: both sort last. The code is
+// the key clamped to [code_lo, code_hi], less code_lo: the edge's keys differ only in a few columns
+// (the split axis is the key's top part), so the sort runs over the few bits that vary. Clamping
+// keeps the stable order because only particles kept in sorted order lie beyond the clamps
+// (CellPipeline::enqueue_edge_sort).
+__kernel void edge_keys(const uint first, const uint count, const uint drop_first, const uint drop_end,
+                        const uint key_lo, const uint key_hi, const uint code_lo, const uint code_hi,
+                        __global const float4* pos, __global uint* keys, __global uint* vals) {
     const uint j = get_global_id(0);
-    if (j >= left + (end - right)) return;
-    const uint i = j < left ? j : right + (j - left);
+    if (j >= count) return;
+    const uint i = first + j;
     const uint key = pos_key(pos[i]);
-    const bool dropped = i >= drop_first && i < drop_end;
-    keys[j] = !dropped && key >= key_lo && key < key_hi ? key : invalid_key;
+    const bool valid = (i < drop_first || i >= drop_end) && key >= key_lo && key < key_hi;
+    keys[j] = valid ? clamp(key, code_lo, code_hi) - code_lo : code_hi - code_lo + 1u;
     vals[j] = i;
 }
 

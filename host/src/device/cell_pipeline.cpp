@@ -56,14 +56,15 @@ void CellPipeline::reserve_cells(std::size_t k) {
 }
 
 void CellPipeline::sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n,
-                              ParticleStore& ps) {
+                              ParticleStore& ps, unsigned bits) {
+    if (bits == 0) bits = grid_.key_bits();
     // The reorder scratch is free while keys sort (the reorder comes after): the sort ping-pongs
     // through it rather than through 8 bytes a particle of its own. Only stores of a few dozen
     // particles are too small to lend it.
     if (RadixSort::borrowed_elements(n) * sizeof(cl_uint) <= ps.scratch.bytes())
-        sorter.sort_through(keys, vals, n, grid_.key_bits(), ps.scratch);
+        sorter.sort_through(keys, vals, n, bits, ps.scratch);
     else
-        sorter.sort(keys, vals, n, grid_.key_bits());
+        sorter.sort(keys, vals, n, bits);
 }
 
 CellPassResult CellPipeline::run(ParticleStore& ps) {
@@ -153,7 +154,7 @@ void CellPipeline::enqueue_reorder(ParticleStore& ps, std::size_t n, std::size_t
 
 void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
     auto& d = device_;
-    const std::size_t m = e.left + (e.end - e.right);
+    const std::size_t m = std::max(e.left, e.end - e.right);
     if (m == 0) return;
     if (edge_keys_.bytes() < m * sizeof(cl_uint)) {
         const std::size_t cap = sizing::box_capacity(m);
@@ -162,18 +163,52 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
         edge_keys_ = d.alloc(cap * sizeof(cl_uint), "edge sort keys");
         edge_vals_ = d.alloc(cap * sizeof(cl_uint), "edge sort values");
     }
-    set_args(edge_keys_k_, e.left, e.right, e.end, e.drop_first, e.drop_end, e.keys.lo, e.keys.hi,
-             grid_.params().invalid_key, ps.pos, edge_keys_, edge_vals_);
-    d.launch("edge.keys", edge_keys_k_, m, wg_);
-    sort_pairs(edge_sort_, edge_keys_, edge_vals_, m, ps);
-    // All four arrays' edge entries in sorted order into scratch (one launch), then back into place
-    // (one launch): [0, left) and the right part's kept entries to [right, right + valid_right).
+    // Each edge goes through the reorder scratch, four arrays side by side.
     if (edge_scratch_bytes(m) > ps.scratch.bytes())
         throw Error("edge sort of " + std::to_string(m) + " particles does not fit the reorder scratch");
-    set_args(edge_gather_k_, m, edge_vals_, ps.pos, ps.velrho, ps.accel, ps.id, ps.scratch);
-    d.launch("edge.gather", edge_gather_k_, m, wg_);
-    set_args(edge_place_k_, m, e.left, e.right, e.valid_right, ps.scratch, ps.pos, ps.velrho, ps.accel, ps.id);
-    d.launch("edge.place", edge_place_k_, e.left + e.valid_right, wg_);
+    const auto bound = [&](std::uint32_t k) { return std::clamp(k, e.keys.lo, e.keys.hi); };
+    // Just above the last valid key below k: a column's keys do not fill its 2^shift_s codes (the
+    // a and b parts stop at n_a and n_b), and no valid key lies between, so an upper bound there
+    // sorts the same and may need a bit less (SPHERIC-2 at dp 0.006: two columns in 16 bits, not 17).
+    const GridParams& g = grid_.params();
+    const auto tight = [&](std::uint32_t k) {
+        if (k == 0 || g.shift_s >= 32) return k;
+        const std::uint32_t c = std::min<std::uint32_t>((k - 1) >> g.shift_s, g.n_s - 1);
+        const std::uint64_t last = std::uint64_t{grid_.key(c, g.n_a - 1, g.n_b - 1)} + 1;
+        return static_cast<std::uint32_t>(std::min<std::uint64_t>(k, last));
+    };
+    // The left edge: every key from left_top up sorts as left_top; the right edge: every key below
+    // right_bottom as right_bottom. Those particles were kept, in sorted order, and come after
+    // (before) every other entry of their edge, so a stable sort leaves them where the full keys
+    // would: the order, within cells too, is the same.
+    if (e.left > 0) sort_edge(ps, 0, e.left, e.left, e, e.keys.lo, tight(bound(e.left_top)));
+    if (e.end > e.right)
+        sort_edge(ps, e.right, e.end - e.right, e.valid_right, e, bound(e.right_bottom), tight(e.keys.hi));
+}
+
+void CellPipeline::sort_edge(ParticleStore& ps, std::size_t first, std::size_t count, std::size_t kept,
+                             const EdgeSort& e, std::uint32_t code_lo, std::uint32_t code_hi) {
+    auto& d = device_;
+    code_hi = std::max(code_hi, code_lo);  // bounds that cross (a cut moved past them): one code
+    // Codes 0 .. code_hi - code_lo (valid keys) and one more (dropped): the bits that hold them.
+    const std::uint64_t codes = std::uint64_t{code_hi} - code_lo + 2;
+    unsigned bits = 1;
+    while (bits < 32 && (std::uint64_t{1} << bits) < codes) ++bits;
+    if (codes > (std::uint64_t{1} << 32)) {  // no room for the dropped code: sort on the keys themselves
+        code_lo = 0;
+        code_hi = grid_.params().invalid_key - 1;
+        bits = grid_.key_bits();
+    }
+    set_args(edge_keys_k_, first, count, e.drop_first, e.drop_end, e.keys.lo, e.keys.hi, code_lo, code_hi, ps.pos,
+             edge_keys_, edge_vals_);
+    d.launch("edge.keys", edge_keys_k_, count, wg_);
+    sort_pairs(edge_sort_, edge_keys_, edge_vals_, count, ps, bits);
+    // The edge's entries of all four arrays in sorted order into scratch (one launch), then the
+    // first `kept` back into place (one launch).
+    set_args(edge_gather_k_, count, edge_vals_, ps.pos, ps.velrho, ps.accel, ps.id, ps.scratch);
+    d.launch("edge.gather", edge_gather_k_, count, wg_);
+    set_args(edge_place_k_, count, first, kept, ps.scratch, ps.pos, ps.velrho, ps.accel, ps.id);
+    d.launch("edge.place", edge_place_k_, kept, wg_);
 }
 
 void CellPipeline::enqueue_rekey(ParticleStore& ps, std::size_t n) {

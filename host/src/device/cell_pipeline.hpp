@@ -44,12 +44,17 @@ struct SortSelection {
     bool settle = false;
 };
 
-// The two edges of an almost sorted array, sorted on their own: [0, left) and [right, end), of
+// The two edges of an almost sorted array, each sorted on its own: [0, left) and [right, end), of
 // which [drop_first, drop_end) and keys outside `keys` are dropped; valid_right of the right edge
-// stay, which leaves [0, right + valid_right) sorted.
+// stay, which leaves [0, right + valid_right) sorted. An empty edge (left 0, right == end) is
+// skipped. The bounds let each sort run over the few key bits that vary in its edge: the left
+// edge's entries with keys from left_top up, and the right edge's with keys below right_bottom,
+// must be particles in sorted order (the kept ones) that come after, resp. before, every other
+// entry of the edge; those keys then sort as left_top, resp. right_bottom. The defaults bound nothing.
 struct EdgeSort {
     std::size_t left = 0, right = 0, end = 0, drop_first = 0, drop_end = 0, valid_right = 0;
     KeyRange keys;
+    std::uint32_t left_top = 0xffffffffu, right_bottom = 0;
 };
 
 // What settling the owned particles found (enqueue_settle, read when its events are waited for).
@@ -160,8 +165,14 @@ private:
     bool drift_histogram_checked_ = false;
     // The compaction's scan over the sorted keys of [0, n) into vals (n + 1 entries).
     void scan_cell_starts(ParticleStore& ps, std::size_t n);
-    // Sorts n (key, value) pairs on the grid's key bits, ping-ponging through the store's reorder scratch.
-    void sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n, ParticleStore& ps);
+    // Sorts n (key, value) pairs on their lowest `bits` bits (0: the grid's key bits), ping-ponging
+    // through the store's reorder scratch.
+    void sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n, ParticleStore& ps,
+                    unsigned bits = 0);
+    // One edge of enqueue_edge_sort: particles [first, first + count) by their keys clamped to
+    // [code_lo, code_hi], the first `kept` back into place from `first`.
+    void sort_edge(ParticleStore& ps, std::size_t first, std::size_t count, std::size_t kept, const EdgeSort& e,
+                   std::uint32_t code_lo, std::uint32_t code_hi);
     cl_rt::Device& device_;
     const Grid& grid_;
     bool fused_;

@@ -110,39 +110,45 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
         s.cells = cells_in(g0, g1);
         // exchange.cpp: windows of two columns at each edge with a neighbour go out; the neighbours'
         // edge columns come in (the ghosts).
-        std::size_t out = 0, arrivals = 0;
+        std::size_t out = 0, arrivals_left = 0, arrivals_right = 0;
         if (d > 0) {
             s.window = std::max(s.window, in_columns(first, std::min(first + 2, end)));
             out += in_columns(first, std::min(first + 2, end));
-            arrivals += in_columns(g0, first);
+            arrivals_left = in_columns(g0, first);
         }
         if (d + 1 < D) {
             s.window = std::max(s.window, in_columns(end > first + 2 ? end - 2 : first, end));
             out += in_columns(end > first + 2 ? end - 2 : first, end);
-            arrivals += in_columns(end, g1);
+            arrivals_right = in_columns(end, g1);
         }
+        const std::size_t arrivals = arrivals_left + arrivals_right;
         s.outbox = device::sizing::box_capacity(out);
         s.inbox = device::sizing::box_capacity(arrivals + buffer_in(g0, g1));
         // Each exchange (exchange.cpp plan(), send(), receive_and_merge()) holds what the store had
         // and the arrivals, keeping the sorted particles: the first (SlabDriver::start) the owned
         // particles, the next ones the ghosts too, dropped at the merge. On slabs of 4 columns or
-        // more it sorts only the edges (the arrivals, the dropped and the kept particles of the
-        // first and last two columns) where the reorder scratch holds them, deciding so on the
-        // capacity before the store grows.
+        // more it sorts only the edges where the reorder scratch holds them, deciding so on the
+        // capacity before the store grows: each edge alone, and only on a side with arrivals (the
+        // left: the arrivals and the kept particles of the first two columns; the right: those of
+        // the last two, the dropped and the arrivals).
         const std::size_t owned = in_columns(first, end);
-        const std::size_t xy = s.columns >= 4 ? in_columns(first, first + 2) + in_columns(end - 2, end) : 0;
+        const std::size_t x = s.columns >= 4 && arrivals_left > 0 ? in_columns(first, first + 2) : 0;
+        const std::size_t y = s.columns >= 4 && arrivals_right > 0 ? in_columns(end - 2, end) : 0;
         // The first exchange grows the store before the cell tables are made (and on the edge path,
         // in send(), before the inbox is); the sort before it (exchange.cpp sort_uploaded()) sorted
         // the owned particles.
         auto exchange = [&](std::size_t held, std::size_t dropped, bool first_one) {
-            const std::size_t kept = held - dropped, m = arrivals + dropped + xy;
-            const bool edges = s.columns >= 4 && arrivals > 0 && kept > 0 && xy < kept &&
+            const std::size_t kept = held - dropped;
+            const std::size_t m_left = arrivals_left > 0 ? arrivals_left + x : 0;
+            const std::size_t m_right = arrivals_right > 0 ? y + dropped + arrivals_right : 0;
+            const std::size_t m = m_left + m_right;
+            const bool edges = s.columns >= 4 && arrivals > 0 && kept > 0 && x + y < kept &&
                                m * device::sizing::kParticleBytes <= s.capacity * device::sizing::kFloat4;
             at.sorted = first_one ? owned : s.active;
             at.tables = !first_one;
             at.inbox = !first_one || !edges;
             grow(held + arrivals, true);
-            if (edges) s.edge = std::max(s.edge, m);
+            if (edges) s.edge = std::max(s.edge, std::max(m_left, m_right));
         };
         exchange(owned, 0, true);
         exchange(owned + arrivals, arrivals, false);

@@ -52,7 +52,7 @@ std::size_t Exchange::sort_uploaded() {
     return removed;
 }
 
-std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
+std::size_t Exchange::run(const PerDevice& then, const Particles* created, const PerDevice& before) {
     const std::size_t D = slabs_.size();
     need_ = partition_.needs(slabs_);
     created_ = created && created->size() > 0 ? created : nullptr;
@@ -70,7 +70,7 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
     }
     std::vector<Block> blocks;
     std::vector<char> presorted(D, 0);
-    settle_and_gather(false, blocks, presorted);
+    settle_and_gather(false, blocks, presorted, before);
     std::size_t removed = 0, jumped = 0;
     for (std::size_t d = 0; d < D; ++d) {
         if (!ranks_.here(d)) continue;
@@ -113,7 +113,8 @@ std::size_t Exchange::run(const PerDevice& then, const Particles* created) {
     return removed;
 }
 
-void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted) {
+void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted,
+                                 const PerDevice& before) {
     PhaseTimer t(phases_, "exchange: settle and gather");
     const std::size_t D = slabs_.size();
     cl_rt::EventSet gathered;
@@ -121,6 +122,7 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
     for_each_device_([&](std::size_t d) {
         Slab& s = slabs_[d];
         auto& ps = *s.store;
+        if (before) before(d);  // the step's drift: the settle follows it in the queue
         if (!wide) s.cells->enqueue_settle(ps, partition_.keys_of(need_[d]), gathered);
         // What each other device needs from this one lies in a window: one column wider on either
         // side than its columns, within what this device owned (or, `wide`, all of that).
@@ -187,12 +189,20 @@ Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_le
     // exchange's column positions bound the left edge; likewise the right. A slab too narrow for
     // the bounds to leave a middle sorts everything once the arrivals are in.
     if (!presorted || p.kept == 0 || !s.columns_known() || s.columns_end - s.columns_first < 4) return p;
+    // A side without arrivals needs no edge: the kept particles are sorted already, and the
+    // dropped ones after them lie beyond what stays.
     const std::size_t last = s.columns_end - s.columns_first;
     const std::size_t x = std::min<std::size_t>(p.kept, s.column_at[2] - s.column_at[0]);
     const std::size_t y = std::min<std::size_t>(p.kept, s.column_at[last] - s.column_at[last - 2]);
-    p.left = from_left + x;
-    p.right = from_left + p.kept - y;
-    p.end = from_left + p.held + from_right;
+    p.left = from_left > 0 ? from_left + x : 0;
+    p.right = from_left + p.kept - (from_right > 0 ? y : 0);
+    p.end = from_right > 0 ? from_left + p.held + from_right : p.right;
+    // The arrivals from the left were owned left of this slab's old first column and moved at most
+    // a column: they lie below column first_old + 1; those from the right at end_old - 1 or above.
+    // Only kept particles, in sorted order, lie beyond, so each edge sorts on the bits of a few
+    // columns (CellPipeline::enqueue_edge_sort).
+    p.left_top = partition_.column_key(s.columns_first + 1);
+    p.right_bottom = partition_.column_key(s.columns_end - 1);
     // The edges go through the reorder scratch, four arrays side by side.
     const std::size_t m = p.left + (p.end - p.right);
     if (p.left < p.right && device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float))
@@ -265,7 +275,8 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
         device::copy_particles(dev, s.inbox, 0, ps, 0, p.from_left);
         device::copy_particles(dev, s.inbox, p.from_left, ps, p.from_left + p.held, p.from_right);
         s.cells->enqueue_edge_sort(ps, device::EdgeSort{p.left, p.right, p.end, p.from_left + p.kept, p.from_left + p.held,
-                                                        p.end - p.right - (p.held - p.kept), keys});
+                                                        p.end > p.right ? p.end - p.right - (p.held - p.kept) : 0, keys,
+                                                        p.left_top, p.right_bottom});
         valid = p.kept + n;
         s.cells->enqueue_rekey(ps, valid);
         break;

@@ -63,7 +63,8 @@ public:
     // alike: each device takes those in the columns it needs (owned or halo) after its right
     // arrivals, the order one device gives them too ([held | created] sorted stably), so each
     // cell lists them last on any device count.
-    std::size_t run(const PerDevice& then, const Particles* created = nullptr);
+    // `before` (the step's drift), if given, runs on each device's thread before its settle.
+    std::size_t run(const PerDevice& then, const Particles* created = nullptr, const PerDevice& before = {});
 
 private:
     struct Block { std::size_t d, e, index, base; };  // sender, receiver, gather block, outbox offset
@@ -71,8 +72,9 @@ private:
     struct Plan {
         Merge merge = Merge::all;
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
+        std::uint32_t left_top = 0xffffffffu, right_bottom = 0;  // the edges' bounds (device::EdgeSort)
     };
-    void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted);
+    void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted, const PerDevice& before = {});
     Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
     void send(const std::vector<Block>& blocks, const std::vector<Plan>& plans);
     void receive_and_merge(std::size_t e, const std::vector<Block>& blocks, const Plan& p, const PerDevice& then);

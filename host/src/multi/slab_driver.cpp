@@ -219,9 +219,9 @@ StepOutcome SlabDriver::start() {
 StepOutcome SlabDriver::step_here(double dt, double time) {
     keep_cuts_off_bodies();                        // mDBC, floating bodies: no cut within their ghost nodes' reach
     apply_seams();                                 // tests: forced cuts
-    drift(dt, time);                                   // first kick and drift, every device at once
     if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
-        rebalance();                               // cuts from the last step's force times, while the devices drift
+        rebalance();                               // cuts from the last step's force times (host only)
+    const PerDevice drifted = drift(dt, time);     // first kick and drift, enqueued by the exchange before its settle
     cl_rt::EventSet kicked;
     std::size_t removed = 0;
     const Particles* made = nullptr;
@@ -229,7 +229,7 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
         removed += exchange_->run([&](std::size_t d) {  // forces at the half step,
             forces(d);
             correct(d, dt, time);                  // the corrector to the full step;
-        });
+        }, nullptr, drifted);
         if (bodies_) correct_bodies(dt, time);     // floating bodies: theirs, from every device's sums
         removed += exchange_->run([&](std::size_t d) {  // the positions moved again: forces there
             forces(d);                             // (the next predictor's), and the reductions
@@ -242,7 +242,7 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
         removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
             forces(d);                             // once on each device's thread: the force pass,
             kick(d, dt, kicked);                   // the second kick and its reductions
-        }, made);
+        }, made, drifted);
     }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
     take_body_forces(symplectic_ ? 0.0 : dt);      // floating bodies: the kick (Symplectic: the new accelerations)
@@ -258,12 +258,12 @@ void SlabDriver::apply_seams() {
     if (seams.cut_schedule && slabs_.size() > 1) partition_.set_cuts(slabs_, seams.cut_schedule(steps_, columns()));
 }
 
-void SlabDriver::drift(double dt, double time) {
-    const auto poses = drift_bodies(dt);  // floating bodies: where their particles go (none: empty)
+PerDevice SlabDriver::drift(double dt, double time) {
+    auto poses = drift_bodies(dt);  // floating bodies: where their particles go (none: empty)
     // Inlets whose speed follows a series: their buffers move by exactly X(t + dt) - X(t).
     const bool ramps = feed_.speeds_vary();
     if (ramps) inlet_means_ = feed_.mean_speeds(time, dt);
-    for_each_device([&](std::size_t d) {
+    return [this, poses = std::move(poses), ramps, dt, time](std::size_t d) {
         auto& physics = *slabs_[d].physics;
         if (!poses.empty()) physics.set_floating_poses(poses);
         if (ramps && slabs_[d].inlets) slabs_[d].inlets->impose(*slabs_[d].store, inlet_means_, false);
@@ -273,8 +273,7 @@ void SlabDriver::drift(double dt, double time) {
             physics.kick_drift(*slabs_[d].store, dt);
         physics.move_solids(*slabs_[d].store, time, dt, symplectic_ ? 0.5 : 1.0);  // moving solids: at the drift's time
         if (slabs_[d].outlets) slabs_[d].outlets->remove_past(*slabs_[d].store);  // the settle removes and counts them
-        slabs_[d].device->flush();
-    });
+    };
 }
 
 void SlabDriver::correct(std::size_t d, double dt, double time) {

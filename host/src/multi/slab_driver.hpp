@@ -134,7 +134,10 @@ private:
                 const scene::LatticePlan* plan);
     void for_each_device(const PerDevice& work);
     void apply_seams();
-    void drift(double dt, double time);
+    // The first kick and drift: the host's part (floating bodies, inlet means) now; what each device
+    // enqueues is returned, for the exchange to run first on each device's thread (the settle
+    // then follows the drift in the queue without a gap).
+    PerDevice drift(double dt, double time);
     void rebalance();
     void forces(std::size_t d);
     void kick(std::size_t d, double dt, cl_rt::EventSet& kicked);
