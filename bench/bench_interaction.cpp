@@ -9,6 +9,7 @@
 #include "spheric2_scene.hpp"
 
 #include "bench_util.hpp"
+#include "clsph/simulation.hpp"
 #include "cl/kernel_args.hpp"
 #include "device/cell_pipeline.hpp"
 #include "device/cluster_list.hpp"
@@ -21,6 +22,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <stdexcept>
+#include <string>
 
 using namespace clsph;
 
@@ -79,9 +82,17 @@ void cluster_counts(cl_rt::Device& d, device::ParticleStore& ps, const device::C
                 32 * fine_steps / std::max(1.0, fine_candidates), fine_candidates / double(n));
 }
 
-void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interaction>& forms, int warmup, int repeats,
-                int reach) {
-    const Particles p = scene.build_particles();
+Particles ordered_by_id(const Particles& p) {
+    std::vector<std::size_t> order(p.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    Particles q;
+    for (std::size_t i : order) q.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
+    return q;
+}
+
+void run_device(cl_rt::Device& d, const Scene& scene, const Particles& p, double t, const std::vector<Interaction>& forms,
+                int warmup, int repeats, int reach) {
     device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
                       scene.domain.periodic, reach);
     device::ParticleStore ps(d, grid, p.size(), 0.0);
@@ -94,9 +105,9 @@ void run_device(cl_rt::Device& d, const Scene& scene, const std::vector<Interact
     d.profiler().enable(true);
 
     std::printf("%s", bench::header(d).c_str());
-    std::printf("\nSPHERIC-2 at t = 0, dp = %g m: %zu particles, %zu non-empty cells (reach %d: %zu neighbour rows of "
+    std::printf("\nSPHERIC-2 at t = %g s, dp = %g m: %zu particles, %zu non-empty cells (reach %d: %zu neighbour rows of "
                 "%d cells per cell); force pass of each form, median (min-max) of %d after %d warm-up, device events\n\n",
-                scene.physics.dp, n, cp.cells(), reach, grid.rows(), 2 * reach + 1, repeats, warmup);
+                t, scene.physics.dp, n, cp.cells(), reach, grid.rows(), 2 * reach + 1, repeats, warmup);
 
     // What a warp executes (geometry only: the same on every device).
     auto stats_k = d.kernel("interaction_stats.cl", "warp_counts", grid.kernel_options());
@@ -179,6 +190,8 @@ int main(int argc, char** argv) {
     int repeats = 10, warmup = 2;
     std::vector<int> reaches;
     std::vector<std::string> names{"fine", "lanes", "coarse", "clusters"};
+    double until = 0;
+    bool by_id = false;
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");
@@ -186,14 +199,43 @@ int main(int argc, char** argv) {
     app.add_option("--forms", names, "interaction forms to time, the first is the reference");
     app.add_option("--reach", reaches, "grid reaches to time (1: cells of a support; 2: of half a support along a "
                                        "and b; default: what the simulation picks)");
+    app.add_option("--until", until,
+                   "run the simulation to this time first (fine form, on the device being measured), and measure the "
+                   "state it reached, in its memory order: how a warp's work changes once the water moves")
+        ->check(CLI::NonNegativeNumber);
+    app.add_flag("--by-id", by_id,
+                 "with --until: order the particles by id before sorting them into cells, so that each cell lists "
+                 "them in the lattice's order as at t = 0 (what the order the motion left costs)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<Interaction> forms;
         for (const auto& s : names) forms.push_back(interaction_from_name(s));
         const Scene scene = bench::spheric2_scene(dp);
         if (reaches.empty()) reaches.push_back(device::reach_for(scene.physics.support(), scene.physics.dp));
-        for (auto& d : cl_rt::open_devices(devices, cl_rt::OpenOptions{true}))
-            for (int reach : reaches) run_device(*d, scene, forms, warmup, repeats, reach);
+        auto opened = cl_rt::open_devices(devices, cl_rt::OpenOptions{true});
+        if (until > 0 && opened.size() != 1)
+            throw std::runtime_error("--until runs the simulation on the device it measures: --devices must select one "
+                                     "device (it selects " + std::to_string(opened.size()) + ")");
+        for (std::size_t k = 0; k < opened.size(); ++k) {
+            Particles p;
+            double t = 0;
+            if (until > 0) {
+                // The state in motion, in the order the simulation left it in memory (its download
+                // keeps that order, and the upload's stable sort keeps it within each cell).
+                Options opts;
+                opts.devices = devices;
+                opts.interaction = Interaction::fine;
+                opts.synchronous = false;
+                Simulation sim(scene, opts);
+                sim.run_until(until);
+                t = sim.time();
+                p = sim.particles();
+                if (by_id) p = ordered_by_id(p);
+            } else {
+                p = scene.build_particles();
+            }
+            for (int reach : reaches) run_device(*opened[k], scene, p, t, forms, warmup, repeats, reach);
+        }
     } catch (const std::exception& e) {
         std::cerr << "clsph-bench-interaction: " << e.what() << '\n';
         return 1;
