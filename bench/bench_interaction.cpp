@@ -9,6 +9,7 @@
 #include "spheric2_scene.hpp"
 
 #include "bench_util.hpp"
+#include "clsph/checkpoint.hpp"
 #include "clsph/simulation.hpp"
 #include "cl/kernel_args.hpp"
 #include "device/cell_pipeline.hpp"
@@ -21,7 +22,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -82,10 +85,34 @@ void cluster_counts(cl_rt::Device& d, device::ParticleStore& ps, const device::C
                 32 * fine_steps / std::max(1.0, fine_candidates), fine_candidates / double(n));
 }
 
-Particles ordered_by_id(const Particles& p) {
+// The particles in another order, which the upload's stable sort keeps within each cell: by id
+// (the lattice's order), or by cell and then a Morton code of the offset within the cell (two
+// bits per axis: octants, then octants of those).
+Particles reordered(const Particles& p, const std::string& how, const Scene& scene) {
     std::vector<std::size_t> order(p.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    if (how == "id") {
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+    } else {
+        const device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(),
+                                scene.domain.split_axis, scene.domain.periodic, 1);
+        const auto cell = grid.cell_size_xyz();
+        std::vector<std::uint64_t> code(p.size());
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            std::array<float, 3> off{};
+            const std::uint64_t key = grid.locate(p.position[i], off);
+            std::uint32_t m = 0;
+            for (int level = 0; level < 2; ++level)
+                for (int k = 0; k < 3; ++k) {
+                    const int axis = grid.axis(k);
+                    const double u = std::clamp(off[axis] / cell[axis] + 0.5, 0.0, 0.999999);
+                    const auto q = static_cast<std::uint32_t>(u * 4);  // 0..3
+                    m = (m << 1) | ((q >> (1 - level)) & 1u);
+                }
+            code[i] = (key << 6) | m;
+        }
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
+    }
     Particles q;
     for (std::size_t i : order) q.push_back(p.id[i], p.type[i], p.position[i], p.velocity[i], p.density[i], p.pressure[i]);
     return q;
@@ -191,7 +218,9 @@ int main(int argc, char** argv) {
     std::vector<int> reaches;
     std::vector<std::string> names{"fine", "lanes", "coarse", "clusters"};
     double until = 0;
-    bool by_id = false;
+    std::string within = "memory";
+    bool at_rest = false;
+    std::string state;
     app.add_option("--devices", devices, "device selection");
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");
@@ -203,9 +232,17 @@ int main(int argc, char** argv) {
                    "run the simulation to this time first (fine form, on the device being measured), and measure the "
                    "state it reached, in its memory order: how a warp's work changes once the water moves")
         ->check(CLI::NonNegativeNumber);
-    app.add_flag("--by-id", by_id,
-                 "with --until: order the particles by id before sorting them into cells, so that each cell lists "
-                 "them in the lattice's order as at t = 0 (what the order the motion left costs)");
+    app.add_option("--within-cells", within,
+                   "the order of the particles within each cell: memory (as the simulation left them), id (the "
+                   "lattice's order, as at t = 0), morton (by the octant of the cell each lies in, then its octant of "
+                   "that: compact runs)")
+        ->check(CLI::IsMember({"memory", "id", "morton"}));
+    app.add_option("--state", state,
+                   "with --until: a checkpoint of the state reached, read from this file when it exists (and the "
+                   "run only continues to --until from it), written to it otherwise");
+    app.add_flag("--at-rest", at_rest,
+                 "with --until: every velocity set to zero, the positions and densities kept (what the pair terms "
+                 "that only moving pairs take, such as artificial viscosity's, cost)");
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<Interaction> forms;
@@ -226,14 +263,18 @@ int main(int argc, char** argv) {
                 opts.devices = devices;
                 opts.interaction = Interaction::fine;
                 opts.synchronous = false;
-                Simulation sim(scene, opts);
-                sim.run_until(until);
-                t = sim.time();
-                p = sim.particles();
-                if (by_id) p = ordered_by_id(p);
+                const bool have = !state.empty() && std::ifstream(state).good();
+                auto sim = have ? std::make_unique<Simulation>(scene, read_checkpoint(state, &scene), opts)
+                                : std::make_unique<Simulation>(scene, opts);
+                sim->run_until(until);
+                if (!state.empty() && !have) sim->save(state);
+                t = sim->time();
+                p = sim->particles();
             } else {
                 p = scene.build_particles();
             }
+            if (within != "memory") p = reordered(p, within, scene);
+            if (at_rest) std::fill(p.velocity.begin(), p.velocity.end(), std::array<float, 3>{0.0f, 0.0f, 0.0f});
             for (int reach : reaches) run_device(*opened[k], scene, p, t, forms, warmup, repeats, reach);
         }
     } catch (const std::exception& e) {
