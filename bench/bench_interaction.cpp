@@ -135,6 +135,25 @@ void run_device(cl_rt::Device& d, const Scene& scene, const Particles& p, double
     std::printf("\nSPHERIC-2 at t = %g s, dp = %g m: %zu particles, %zu non-empty cells (reach %d: %zu neighbour rows of "
                 "%d cells per cell); force pass of each form, median (min-max) of %d after %d warm-up, device events\n\n",
                 t, scene.physics.dp, n, cp.cells(), reach, grid.rows(), 2 * reach + 1, repeats, warmup);
+    {
+        // How full the cells are: the CPU form runs a cell's particles 16 at a time, so a cell of
+        // 17 walks its candidates twice.
+        std::vector<cl_uint> start(cp.cells() + 1);
+        d.read(cp.cell_start(), start.data(), start.size());
+        std::size_t largest = 0, over = 0, in_over = 0;
+        for (std::size_t c = 0; c + 1 < start.size(); ++c) {
+            const std::size_t k = start[c + 1] - start[c];
+            largest = std::max(largest, k);
+            if (k > 16) {
+                ++over;
+                in_over += k;
+            }
+        }
+        std::printf("particles per non-empty cell: %.1f on average, at most %zu; %.1f %% of the cells hold more than 16, "
+                    "with %.1f %% of the particles\n\n",
+                    double(n) / double(std::max<std::size_t>(1, cp.cells())), largest,
+                    100.0 * double(over) / double(std::max<std::size_t>(1, cp.cells())), 100.0 * double(in_over) / double(n));
+    }
 
     // What a warp executes (geometry only: the same on every device).
     auto stats_k = d.kernel("interaction_stats.cl", "warp_counts", grid.kernel_options());
