@@ -247,7 +247,7 @@ int main(int argc, char** argv) {
     app.add_option("--forms", names, "interaction forms to time, the first is the reference");
     app.add_option("--reach", reaches, "grid reaches to time (1: cells of a support; 2: of half a support along a "
                                        "and b; default: what the simulation picks)");
-    app.add_option("--until", until,
+    auto* until_opt = app.add_option("--until", until,
                    "run the simulation to this time first (fine form, on the device being measured), and measure the "
                    "state it reached, in its memory order: how a warp's work changes once the water moves")
         ->check(CLI::NonNegativeNumber);
@@ -258,10 +258,12 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"memory", "id", "morton"}));
     app.add_option("--state", state,
                    "with --until: a checkpoint of the state reached, read from this file when it exists (and the "
-                   "run only continues to --until from it), written to it otherwise");
+                   "run only continues to --until from it), written to it otherwise")
+        ->needs(until_opt);
     app.add_flag("--at-rest", at_rest,
                  "with --until: every velocity set to zero, the positions and densities kept (what the pair terms "
-                 "that only moving pairs take, such as artificial viscosity's, cost)");
+                 "that only moving pairs take, such as artificial viscosity's, cost)")
+        ->needs(until_opt);
     CLI11_PARSE(app, argc, argv);
     try {
         std::vector<Interaction> forms;
