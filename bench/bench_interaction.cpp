@@ -119,12 +119,13 @@ Particles reordered(const Particles& p, const std::string& how, const Scene& sce
 }
 
 void run_device(cl_rt::Device& d, const Scene& scene, const Particles& p, double t, const std::vector<Interaction>& forms,
-                int warmup, int repeats, int reach) {
+                int warmup, int repeats, int reach, CellOrder order) {
     device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
                       scene.domain.periodic, reach);
     device::ParticleStore ps(d, grid, p.size(), 0.0);
     ps.upload(p);
     device::CellPipeline cp(d, grid);
+    cp.set_order(order);
     cp.run(ps);
     const std::size_t n = ps.ranges.owned;
     const float support2 = static_cast<float>(scene.physics.support() * scene.physics.support());
@@ -237,7 +238,7 @@ int main(int argc, char** argv) {
     std::vector<int> reaches;
     std::vector<std::string> names{"fine", "lanes", "coarse", "clusters"};
     double until = 0;
-    std::string within = "memory";
+    std::string within = "memory", cell_order = "arrival";
     bool at_rest = false;
     std::string state;
     app.add_option("--devices", devices, "device selection");
@@ -256,6 +257,10 @@ int main(int argc, char** argv) {
                    "lattice's order, as at t = 0), morton (by the octant of the cell each lies in, then its octant of "
                    "that: compact runs)")
         ->check(CLI::IsMember({"memory", "id", "morton"}));
+    app.add_option("--cell-order", cell_order,
+                   "the cell pipeline's order within cells when it sorts the particles for the pass (and the run's, "
+                   "with --until): arrival (the sort's), morton (order_within_cells: compact runs)")
+        ->check(CLI::IsMember({"arrival", "morton"}));
     app.add_option("--state", state,
                    "with --until: a checkpoint of the state reached, read from this file when it exists (and the "
                    "run only continues to --until from it), written to it otherwise")
@@ -283,6 +288,7 @@ int main(int argc, char** argv) {
                 Options opts;
                 opts.devices = devices;
                 opts.interaction = Interaction::fine;
+                opts.cell_order = cell_order_from_name(cell_order);
                 opts.synchronous = false;
                 const bool have = !state.empty() && std::ifstream(state).good();
                 auto sim = have ? std::make_unique<Simulation>(scene, read_checkpoint(state, &scene), opts)
@@ -296,7 +302,8 @@ int main(int argc, char** argv) {
             }
             if (within != "memory") p = reordered(p, within, scene);
             if (at_rest) std::fill(p.velocity.begin(), p.velocity.end(), std::array<float, 3>{0.0f, 0.0f, 0.0f});
-            for (int reach : reaches) run_device(*opened[k], scene, p, t, forms, warmup, repeats, reach);
+            for (int reach : reaches)
+                run_device(*opened[k], scene, p, t, forms, warmup, repeats, reach, cell_order_from_name(cell_order));
         }
     } catch (const std::exception& e) {
         std::cerr << "clsph-bench-interaction: " << e.what() << '\n';

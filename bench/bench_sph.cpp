@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     CLI::App app{"clsph SPHERIC-2 benchmark"};
     std::string devices;
     double dp = 0.006, until = 0.1;
-    std::string interaction = "auto";
+    std::string interaction = "auto", cell_order = "auto";
     std::string balance = "dynamic", balance_log, trace;
     bool synchronous = false;
     std::size_t max_steps = 0, slabs = 1;
@@ -83,6 +83,8 @@ int main(int argc, char** argv) {
     app.add_option("--until", until, "simulated seconds to time");
     app.add_option("--interaction", interaction, "interaction form: auto | fine | lanes | coarse | clusters")
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters"}));
+    app.add_option("--cell-order", cell_order, "order within cells: auto | arrival | morton")
+        ->check(CLI::IsMember({"auto", "arrival", "morton"}));
     app.add_option("--balance", balance, "several devices: dynamic | static | off");
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
     app.add_option("--slabs", slabs, "open each device as N slabs (what several slabs cost, on one device)");
@@ -105,6 +107,7 @@ int main(int argc, char** argv) {
         opts.devices = devices;
         opts.profile = true;
         opts.interaction = clsph::interaction_from_name(interaction);
+        opts.cell_order = clsph::cell_order_from_name(cell_order);
         opts.balance = clsph::balance_mode_from_name(balance);
         opts.balance_log = balance_log;
         opts.trace = !trace.empty();
@@ -129,7 +132,8 @@ int main(int argc, char** argv) {
         std::printf("## SPHERIC-2, dp = %g m, interaction %s (%s)\n\n", dp, interaction.c_str(),
                     clsph::bench::today().c_str());
         for (const auto& sh : sim.shares())
-            std::printf("device: %s, interaction form %s\n", sh.device.c_str(), clsph::interaction_name(sh.interaction));
+            std::printf("device: %s, interaction form %s, cells in %s order\n", sh.device.c_str(),
+                        clsph::interaction_name(sh.interaction), clsph::cell_order_name(sh.cell_order));
         std::printf("particles: %zu (boundary %zu, fluid %zu); reference at dp 0.006: 4,989,696 (1,975,146 + 3,014,550)\n",
                     p.size(), p.size() - fluid, fluid);
         std::printf("set-up (particles + device + first force pass): %.1f s\n", setup);

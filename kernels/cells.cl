@@ -185,6 +185,48 @@ __kernel void arrival_keys(const uint held, const uint left, const uint right, c
 
 inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }
 
+// Morton order within cells (CellOrder::morton, docs/interaction.md): a particle's code is its
+// sub-cell of the cell it lies in, CLSPH_ORDER_LEVELS levels of halving per axis, the axes' bits
+// interleaved s, a, b from the coarsest level down (levels 2: 64 sub-cells, 6 bits).
+#ifndef CLSPH_ORDER_LEVELS
+#define CLSPH_ORDER_LEVELS 2
+#endif
+inline uint sub_cell_bits(const float offset, const float cell) {
+    const int top = (1 << CLSPH_ORDER_LEVELS) - 1;
+    return (uint)clamp((int)floor((offset / cell + 0.5f) * (float)(top + 1)), 0, top);
+}
+inline uint sub_cell_code(const GridParams g, const float4 p) {
+    const uint qs = sub_cell_bits(S_OF(p), g.cell_s), qa = sub_cell_bits(A_OF(p), g.cell_a),
+               qb = sub_cell_bits(B_OF(p), g.cell_b);
+    uint code = 0u;
+    for (int level = CLSPH_ORDER_LEVELS - 1; level >= 0; --level)
+        code = (code << 3) | (((qs >> level) & 1u) << 2) | (((qa >> level) & 1u) << 1) | ((qb >> level) & 1u);
+    return code;
+}
+
+// The order that sorts each cell's particles of the sorted [0, n) by (sub-cell code, index), the
+// cells themselves left where they are: order[j] = the particle that goes to j (for gather_*).
+// Each work-item finds its cell's run of equal keys and its rank in it: a cell of m particles costs
+// m^2 code computations, about 20 per particle on the shipped scenes. A pure function of each
+// cell's particles in their order, so devices holding the same cell in the same order (any device
+// count) give it the same order.
+__kernel void order_within_cells(const uint n, const GridParams g, __global const uint* keys,
+                                 __global const float4* pos, __global uint* order) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const uint key = keys[i];
+    uint first = i, end = i + 1u;
+    while (first > 0u && keys[first - 1u] == key) --first;
+    while (end < n && keys[end] == key) ++end;
+    const uint mine = sub_cell_code(g, pos[i]);
+    uint rank = 0u;
+    for (uint j = first; j < end; ++j) {
+        const uint code = sub_cell_code(g, pos[j]);
+        rank += (code < mine || (code == mine && j < i)) ? 1u : 0u;
+    }
+    order[first + rank] = i;
+}
+
 // flags[i] = 1 where a new key begins (all keys in [0, n) are valid cell keys).
 __kernel void flag_cells(const uint n, __global const uint* keys, __global uint* flags) {
     const uint i = get_global_id(0);

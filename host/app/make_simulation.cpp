@@ -18,6 +18,7 @@ std::unique_ptr<Simulation> make_simulation(const Scene& scene, const RunArgs& a
     opts.synchronous = args.synchronous;
     if (args.steps) opts.step_limit = *args.steps + (checkpoint ? checkpoint->step : 0);  // the step ahead stops exactly there
     if (!args.interaction.empty()) opts.interaction = interaction_from_name(args.interaction);
+    if (!args.cell_order.empty()) opts.cell_order = cell_order_from_name(args.cell_order);
     opts.balance = balance_mode_from_name(args.balance);
     opts.balance_log = args.balance_log;
     opts.ranks = args.ranks;

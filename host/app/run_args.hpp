@@ -36,6 +36,7 @@ struct RunArgs {
     bool dry_run = false;
     bool force = false;
     std::string interaction;                  // --interaction NAME; empty: the scene's run.interaction
+    std::string cell_order;                   // --cell-order NAME; empty: the scene's run.cell_order
     bool surface = false;                     // --surface: the free surface at frames (surface_*.vtp)
     std::optional<double> surface_every;      // --surface-every DT (implies --surface); default: every frame
     bool surface_ply = false;                 // --surface-ply: also .ply

@@ -229,7 +229,8 @@ private:
             // Where the slabs ended up: particles and grid columns per device.
             totals_.devices.push_back(d.device + ": " + std::to_string(d.particles) + " particles, grid columns [" +
                                       std::to_string(d.first_column) + ", " + std::to_string(d.end_column) +
-                                      "), interaction " + interaction_name(d.interaction));
+                                      "), interaction " + interaction_name(d.interaction) + ", cells in " +
+                                      cell_order_name(d.cell_order) + " order");
         }
         print_summary(std::cout, totals_);
         if (surfaces_ && surfaces_->written() > 0) {

@@ -58,6 +58,12 @@ void add_device_options(CLI::App& run, RunArgs& a) {
         ->check(CLI::IsMember({"auto", "fine", "lanes", "coarse", "clusters"}))
         ->type_name("NAME")
         ->group(devices_group);
+    run.add_option("--cell-order", a.cell_order,
+                   "order of the particles within each cell: auto (morton where every device runs lanes), "
+                   "arrival, morton (default: the scene's run.cell_order)")
+        ->check(CLI::IsMember({"auto", "arrival", "morton"}))
+        ->type_name("NAME")
+        ->group(devices_group);
     run.add_flag("--synchronous", a.synchronous,
                  "wait for every step on the host (the step ahead off: dt, cell count and statistics read back per step; "
                  "default: off)")

@@ -23,7 +23,11 @@ Particles run(const Scene& scene, Interaction form, std::size_t devices, int ste
     o.devices = test::device_spec(devices);
     o.interaction = form;
     Simulation sim(scene, o);
-    for (const auto& sh : sim.shares()) CHECK(sh.interaction == form);
+    for (const auto& sh : sim.shares()) {
+        CHECK(sh.interaction == form);
+        // The order within cells left to auto: morton where every device runs lanes.
+        CHECK(sh.cell_order == (form == Interaction::lanes ? CellOrder::morton : CellOrder::arrival));
+    }
     for (int i = 0; i < steps; ++i) sim.step();
     return sim.particles();
 }

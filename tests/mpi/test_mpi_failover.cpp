@@ -85,7 +85,7 @@ TEST_CASE("across ranks, rank 1 losing one of its two devices: every rank goes o
 }
 
 TEST_CASE("across ranks, rank 1 losing its only device: it goes on without slabs, as one process on the device left") {
-    same_failover("mpi_failover_only", "rank0=0;rank1=1", "enqueue:300", "0,1", "enqueue:300:1");
+    same_failover("mpi_failover_only", "rank0=0;rank1=1", "enqueue:400", "0,1", "enqueue:400:1");
     // After the failover rank 1 holds nothing: its pieces of the last frame are empty.
     const std::string across = std::string(CLSPH_CLI_WORK) + "/mpi_failover_only";
     const auto frames = read_pvd(across + "/dam_break.pvd");

@@ -22,4 +22,20 @@ Interaction interaction_from_name(const std::string& name);
 // Every concrete form (not automatic), in the order above.
 std::vector<Interaction> interaction_forms();
 
+// The order of the particles within each cell, which is the order the interaction pass meets its
+// candidates in (docs/interaction.md, "The order within cells"). Cells are always in key order;
+// within a cell the particles keep their previous order (arrival), or are sorted along a Morton
+// curve over 64 sub-cells (morton), so that runs of consecutive particles are compact. Results
+// differ by round-off between the two (sums in another order); each is bitwise the same on any
+// number of devices.
+enum class CellOrder {
+    automatic,  // morton where every device runs lanes (the form it speeds up), else arrival
+    arrival,
+    morton,
+};
+// "auto", "arrival", "morton".
+const char* cell_order_name(CellOrder order);
+// The inverse; throws clsph::Error listing the names for anything else.
+CellOrder cell_order_from_name(const std::string& name);
+
 }  // namespace clsph

@@ -35,6 +35,9 @@ struct Options {
     // The interaction form (clsph/interaction.hpp); automatic: the scene's run.interaction, which
     // defaults to a choice per device type.
     Interaction interaction = Interaction::automatic;
+    // The order within cells (clsph/interaction.hpp); automatic: the scene's run.cell_order, which
+    // defaults to morton where every device runs lanes.
+    CellOrder cell_order = CellOrder::automatic;
     double capacity_headroom = 0.25;  // spare particle capacity per device (several devices)
     BalanceMode balance = BalanceMode::dynamic;
     std::string balance_log;          // several devices: per-step balancer CSV, empty: none

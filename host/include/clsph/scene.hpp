@@ -242,6 +242,7 @@ struct RunControl {
     int probe_every = 10;        // steps between probe samples
     double fixed_dt = 0.0;       // > 0: use this time step instead of the adaptive CFL step
     Interaction interaction = Interaction::automatic;  // the interaction form (clsph/interaction.hpp)
+    CellOrder cell_order = CellOrder::automatic;       // the order within cells (clsph/interaction.hpp)
 };
 
 // How water is drawn (render.method): the free surface meshed and rasterised, or the fluid

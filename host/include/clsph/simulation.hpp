@@ -32,6 +32,7 @@ struct DeviceShare {
     double calibrated_whole_scene_seconds = 0;
     double calibrated_fixed_seconds = 0;
     Interaction interaction = Interaction::automatic;  // the interaction form this device runs
+    CellOrder cell_order = CellOrder::automatic;       // the order within cells (the run's, on every device)
 };
 
 struct StepInfo {

@@ -38,6 +38,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     drift_keys_k_ = k("drift_settle_keys");
     tables_bounded_k_ = k("tables_bounded");
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
+    within_k_ = k("order_within_cells");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
     device.fill(cell_count_, cl_uint{0}, 2);
     reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
@@ -139,17 +140,29 @@ void CellPipeline::enqueue_drift_sort_keys(ParticleStore& ps, KeyRange keep, con
 
 void CellPipeline::enqueue_reorder(ParticleStore& ps, std::size_t n, std::size_t dst_offset) {
     if (n == 0) return;
+    gather_arrays(ps, n, dst_offset, ps.vals, "reorder");
+}
+
+void CellPipeline::gather_arrays(ParticleStore& ps, std::size_t n, std::size_t dst_offset, const cl_rt::Buffer& order,
+                                 const std::string& name) {
     // Reorder through the one scratch buffer: gather A into scratch, then swap A and scratch.
     for (cl_rt::Buffer* a : {&ps.pos, &ps.velrho, &ps.accel}) {
-        set_args(gather4_k_, n, dst_offset, ps.vals, *a, ps.scratch);
-        device_.launch("reorder.float4", gather4_k_, n, wg_);
+        set_args(gather4_k_, n, dst_offset, order, *a, ps.scratch);
+        device_.launch(name + ".float4", gather4_k_, n, wg_);
         a->swap(ps.scratch);
     }
     // ids go through the same scratch (larger than they need) and are copied back: the two buffers
     // differ in size, so they cannot trade places.
-    set_args(gather1_k_, n, dst_offset, ps.vals, ps.id, ps.scratch);
-    device_.launch("reorder.uint", gather1_k_, n, wg_);
+    set_args(gather1_k_, n, dst_offset, order, ps.id, ps.scratch);
+    device_.launch(name + ".uint", gather1_k_, n, wg_);
     device_.copy(ps.scratch, ps.id, n * sizeof(cl_uint), dst_offset * sizeof(cl_uint), dst_offset * sizeof(cl_uint));
+}
+
+void CellPipeline::order_within_cells(ParticleStore& ps, std::size_t n) {
+    if (order_ != CellOrder::morton || n == 0) return;
+    set_args(within_k_, n, grid_.params(), ps.keys, ps.pos, ps.vals);
+    device_.launch("cells.within", within_k_, n, wg_);
+    gather_arrays(ps, n, 0, ps.vals, "cells.within");
 }
 
 void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
@@ -274,6 +287,9 @@ void CellPipeline::enqueue_count_cells(ParticleStore& ps, std::size_t n, cl_rt::
 }
 
 void CellPipeline::scan_cell_starts(ParticleStore& ps, std::size_t n) {
+    // Every build of the tables comes through here, right after the last sort or merge of the
+    // step, whatever the path (one device, the exchange's merges, the step ahead).
+    order_within_cells(ps, n);
     if (fused_) {  // the flags counted by the scan as it reads the keys: a launch fewer
         scan_.exclusive_starts(ps.keys, ps.vals, n);
         return;

@@ -18,7 +18,10 @@
 #include "device/particle_store.hpp"
 #include "device/primitives.hpp"
 
+#include "clsph/interaction.hpp"
+
 #include <array>
+#include <string>
 #include <vector>
 
 namespace clsph::device {
@@ -143,6 +146,11 @@ public:
     void grow_cells(std::size_t k) { reserve_cells(k); }
     // The count as the host learnt it (the step ahead): probes read the tables with it.
     void set_counted_cells(std::size_t k) { cells_ = std::min(k, cell_capacity_); }
+    // The order within cells (clsph/interaction.hpp; never automatic): with morton every build of
+    // the tables first sorts each cell's particles along the sub-cell Morton curve (order_within_cells),
+    // moving every array once more; arrival (the default) leaves them in the sort's order.
+    void set_order(CellOrder order) { order_ = order == CellOrder::morton ? CellOrder::morton : CellOrder::arrival; }
+    CellOrder order() const { return order_; }
     // Spare cell capacity kept when the tables grow (Options::cell_headroom).
     void set_cell_headroom(double h) { cell_headroom_ = h; }
     const cl_rt::Buffer& settle_counters() const { return counters_; }
@@ -165,6 +173,13 @@ private:
     bool drift_histogram_checked_ = false;
     // The compaction's scan over the sorted keys of [0, n) into vals (n + 1 entries).
     void scan_cell_starts(ParticleStore& ps, std::size_t n);
+    // With CellOrder::morton: each cell's particles of the sorted [0, n) into their Morton order, the
+    // order through vals (free until the scan writes it); the keys stay as they are.
+    void order_within_cells(ParticleStore& ps, std::size_t n);
+    // Every particle array gathered through `order` into [dst_offset, dst_offset + n).
+    void gather_arrays(ParticleStore& ps, std::size_t n, std::size_t dst_offset, const cl_rt::Buffer& order,
+                       const std::string& name);
+    CellOrder order_ = CellOrder::arrival;
     // Sorts n (key, value) pairs on their lowest `bits` bits (0: the grid's key bits), ping-ponging
     // through the store's reorder scratch.
     void sort_pairs(RadixSort& sorter, cl_rt::Buffer& keys, cl_rt::Buffer& vals, std::size_t n, ParticleStore& ps,
@@ -180,7 +195,7 @@ private:
     Scan scan_;
     std::size_t wg_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
-    cl::Kernel tables_bounded_k_, ranges_bounded_k_;
+    cl::Kernel tables_bounded_k_, ranges_bounded_k_, within_k_;
     cl_rt::Buffer cell_count_;
     bool counted_on_device_ = false;
     double cell_headroom_ = 0.25;

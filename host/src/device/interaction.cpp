@@ -35,4 +35,27 @@ std::vector<Interaction> interaction_forms() {
     return {Interaction::fine, Interaction::lanes, Interaction::coarse, Interaction::clusters};
 }
 
+namespace {
+struct NamedOrder {
+    CellOrder order;
+    const char* name;
+};
+constexpr NamedOrder kOrders[] = {{CellOrder::automatic, "auto"}, {CellOrder::arrival, "arrival"}, {CellOrder::morton, "morton"}};
+}  // namespace
+
+const char* cell_order_name(CellOrder order) {
+    for (const auto& n : kOrders)
+        if (n.order == order) return n.name;
+    return "?";
+}
+
+CellOrder cell_order_from_name(const std::string& name) {
+    std::string list;
+    for (const auto& n : kOrders) {
+        if (name == n.name) return n.order;
+        list += list.empty() ? n.name : std::string(", ") + n.name;
+    }
+    throw Error("unknown cell order '" + name + "' (choose one of " + list + ")");
+}
+
 }  // namespace clsph

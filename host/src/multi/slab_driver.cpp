@@ -83,6 +83,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
         if (!scene.inlets.empty()) s.inlets = std::make_unique<device::InletZones>(*s.device, grid, scene);
         if (outlet_zones_) s.outlets = std::make_unique<device::OutletZones>(*s.device, grid, scene);
     }
+    resolve_cell_order();
     set_up_motion(scene);  // moving and floating solids (multi/slab_floating.cpp)
     if (scene.boundary_method == BoundaryMethod::mdbc) {
         // mDBC: every device holds each boundary particle's ghost-node offset at rest, by id (those
@@ -359,6 +360,27 @@ void SlabDriver::read_force_times() {
     for (std::size_t d = 0; d < slabs_.size(); ++d)
         if (here(d)) slabs_[d].force_seconds = slabs_[d].force_timer->seconds();
     if (across_ranks()) gather_figures();
+}
+
+void SlabDriver::resolve_cell_order() {
+    // One order for the whole run, whatever each device runs: the same cell must come out in the
+    // same order on any device holding it, or several devices would not be bitwise one.
+    CellOrder order = options_.cell_order;
+    if (order == CellOrder::automatic) {
+        // Morton where every device runs lanes, the form measured to gain from it (docs/interaction.md).
+        std::uint64_t others = 0;
+        for (std::size_t d = 0; d < slabs_.size(); ++d)
+            if (here(d)) others += slabs_[d].physics->interaction() != Interaction::lanes;
+        if (ranks_.ranks) {
+            std::vector<std::uint64_t> n{others};
+            ranks_.ranks->sum(n);
+            others = n[0];
+        }
+        order = others == 0 ? CellOrder::morton : CellOrder::arrival;
+    }
+    cell_order_ = order;
+    for (std::size_t d = 0; d < slabs_.size(); ++d)
+        if (here(d)) slabs_[d].cells->set_order(order);
 }
 
 }  // namespace clsph::multi

@@ -36,6 +36,7 @@ namespace clsph::multi {
 
 struct DriverOptions {
     Interaction interaction = Interaction::automatic;
+    CellOrder cell_order = CellOrder::automatic;  // resolved over every device (also other ranks')
     balance::Mode balance = balance::Mode::dynamic;
     std::string balance_log;  // CSV path, empty: none
     double headroom = 0.25;   // spare particle capacity per device
@@ -114,6 +115,7 @@ public:
     const RigidBodies* rigid_bodies() const { return bodies_.get(); }
 
     const SphParams& params() const { return params_; }  // the same on every slab
+    CellOrder cell_order() const { return cell_order_; }  // the order within cells (never automatic)
     // Every slab of the run; across ranks only this rank's have a device (here(d)).
     std::vector<Slab>& slabs() { return slabs_; }
     bool here(std::size_t d) const { return ranks_.here(d); }
@@ -130,6 +132,9 @@ public:
 
 private:
     StepOutcome step_here(double dt, double time);
+    // DriverOptions::cell_order, resolved over every device of the run, given to each pipeline.
+    void resolve_cell_order();
+    CellOrder cell_order_ = CellOrder::arrival;
     void set_up(const std::vector<cl_rt::Device*>& devices, const Scene& scene, const Particles* particles,
                 const scene::LatticePlan* plan);
     void for_each_device(const PerDevice& work);

@@ -301,7 +301,7 @@ void read_probes(const Json& v, Scene& s) {
 }
 
 RunControl read_run(const Json& v) {
-    Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction"});
+    Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction", "cell_order"});
     RunControl r;
     r.end_time = f.number("end_time", r.end_time);
     r.output_every = f.number("output_every", r.output_every);
@@ -311,6 +311,8 @@ RunControl read_run(const Json& v) {
                              {{"auto", Interaction::automatic}, {"fine", Interaction::fine}, 
                               {"lanes", Interaction::lanes}, {"coarse", Interaction::coarse},
                               {"clusters", Interaction::clusters}});
+    r.cell_order = f.choice("cell_order", r.cell_order,
+                            {{"auto", CellOrder::automatic}, {"arrival", CellOrder::arrival}, {"morton", CellOrder::morton}});
     return r;
 }
 

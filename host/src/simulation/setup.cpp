@@ -67,6 +67,7 @@ multi::DriverOptions driver_options(const Scene& scene, const Options& options, 
     multi::DriverOptions d;
     d.interaction = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
     if (planned != Interaction::automatic) d.interaction = planned;  // the memory plan's fallback
+    d.cell_order = options.cell_order != CellOrder::automatic ? options.cell_order : scene.run.cell_order;
     d.balance = options.balance == BalanceMode::dynamic ? balance::Mode::dynamic
                 : options.balance == BalanceMode::fixed ? balance::Mode::static_
                                                         : balance::Mode::off;
