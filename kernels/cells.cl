@@ -185,46 +185,61 @@ __kernel void arrival_keys(const uint held, const uint left, const uint right, c
 
 inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0u || keys[i] != keys[i - 1u]; }
 
-// Morton order within cells (CellOrder::morton, docs/interaction.md): a particle's code is its
-// sub-cell of the cell it lies in, CLSPH_ORDER_LEVELS levels of halving per axis, the axes' bits
-// interleaved s, a, b from the coarsest level down (levels 2: 64 sub-cells, 6 bits).
-#ifndef CLSPH_ORDER_LEVELS
+// Morton order within cells (CellOrder::morton, docs/interaction.md): 2 levels, 64 sub-cells.
 #define CLSPH_ORDER_LEVELS 2
-#endif
-inline uint sub_cell_bits(const float offset, const float cell) {
+// q = floor(offset * scale + 2^levels / 2) clamped to the sub-cells of an axis, scale = 2^levels /
+// cell in float from the host (CellPipeline::sub_cell_scales); a product and a sum each rounded (no
+// contraction into one fma), so the host's tests compute the same codes.
+inline uint sub_cell_bits(const float offset, const float scale) {
+#pragma OPENCL FP_CONTRACT OFF
     const int top = (1 << CLSPH_ORDER_LEVELS) - 1;
-    return (uint)clamp((int)floor((offset / cell + 0.5f) * (float)(top + 1)), 0, top);
-}
-inline uint sub_cell_code(const GridParams g, const float4 p) {
-    const uint qs = sub_cell_bits(S_OF(p), g.cell_s), qa = sub_cell_bits(A_OF(p), g.cell_a),
-               qb = sub_cell_bits(B_OF(p), g.cell_b);
-    uint code = 0u;
-    for (int level = CLSPH_ORDER_LEVELS - 1; level >= 0; --level)
-        code = (code << 3) | (((qs >> level) & 1u) << 2) | (((qa >> level) & 1u) << 1) | ((qb >> level) & 1u);
-    return code;
+    const float u = offset * scale;
+    return (uint)clamp((int)floor(u + (float)(1 << (CLSPH_ORDER_LEVELS - 1))), 0, top);
 }
 
-// The order that sorts each cell's particles of the sorted [0, n) by (sub-cell code, index), the
-// cells themselves left where they are: order[j] = the particle that goes to j (for gather_*).
-// Each work-item finds its cell's run of equal keys and its rank in it: a cell of m particles costs
-// m^2 code computations, about 20 per particle on the shipped scenes. A pure function of each
-// cell's particles in their order, so devices holding the same cell in the same order (any device
-// count) give it the same order.
-__kernel void order_within_cells(const uint n, const GridParams g, __global const uint* keys,
-                                 __global const float4* pos, __global uint* order) {
+// Each particle's sub-cell code, into codes[0, n) (the reorder scratch, free until the gathers):
+// its sub-cell of the cell it lies in, CLSPH_ORDER_LEVELS halvings per axis, the axes' bits
+// interleaved s, a, b from the coarsest level down.
+__kernel void sub_cell_codes(const uint n, const float scale_s, const float scale_a, const float scale_b,
+                             __global const float4* pos, __global uint* codes) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const uint key = keys[i];
-    uint first = i, end = i + 1u;
-    while (first > 0u && keys[first - 1u] == key) --first;
+    const float4 p = pos[i];
+    const uint qs = sub_cell_bits(S_OF(p), scale_s), qa = sub_cell_bits(A_OF(p), scale_a),
+               qb = sub_cell_bits(B_OF(p), scale_b);
+    // Two levels written out (pocl vectorises this and not the loop): s, a, b of the coarse halving,
+    // then of the fine one.
+    codes[i] = ((qs & 2u) << 4) | ((qa & 2u) << 3) | ((qb & 2u) << 2) | ((qs & 1u) << 2) | ((qa & 1u) << 1) | (qb & 1u);
+}
+
+#define CLSPH_SUB_CELLS (1 << (3 * CLSPH_ORDER_LEVELS))
+
+// The order that sorts each cell's particles of the sorted [0, n) by (sub-cell code, index), the
+// cells themselves left where they are: order[j] = the particle that goes to j (for gather_*). The
+// work-item of a cell's first particle counts its codes and places them (a stable counting sort,
+// O(m + sub-cells) for a cell of m). A pure function of each cell's particles in their order, so
+// devices holding the same cell in the same order (any device count) give it the same order.
+__kernel void order_within_cells(const uint n, __global const uint* keys, __global const uint* codes,
+                                 __global uint* order) {
+    const uint first = get_global_id(0);
+    if (first >= n || (first > 0u && keys[first - 1u] == keys[first])) return;
+    const uint key = keys[first];
+    uint end = first + 1u;
     while (end < n && keys[end] == key) ++end;
-    const uint mine = sub_cell_code(g, pos[i]);
-    uint rank = 0u;
-    for (uint j = first; j < end; ++j) {
-        const uint code = sub_cell_code(g, pos[j]);
-        rank += (code < mine || (code == mine && j < i)) ? 1u : 0u;
+    if (end - first == 1u) {
+        order[first] = first;
+        return;
     }
-    order[first + rank] = i;
+    uint at[CLSPH_SUB_CELLS];
+    for (uint c = 0; c < CLSPH_SUB_CELLS; ++c) at[c] = 0u;
+    for (uint j = first; j < end; ++j) ++at[codes[j]];
+    uint sum = first;
+    for (uint c = 0; c < CLSPH_SUB_CELLS; ++c) {
+        const uint k = at[c];
+        at[c] = sum;
+        sum += k;
+    }
+    for (uint j = first; j < end; ++j) order[at[codes[j]]++] = j;
 }
 
 // flags[i] = 1 where a new key begins (all keys in [0, n) are valid cell keys).

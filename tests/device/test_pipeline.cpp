@@ -187,12 +187,12 @@ TEST_CASE("morton order within cells: each cell by sub-cell code, then by its pr
                 d->read(ps.keys, keys.data(), keys.size());
                 CHECK(std::set<std::uint32_t>(id.begin(), id.end()).size() == id.size());
                 CHECK(std::is_sorted(keys.begin(), keys.end()));
-                const float cell[3] = {g.cell_s, g.cell_a, g.cell_b};
+                const auto scale = CellPipeline::sub_cell_scales(g);
                 auto code_of = [&](std::size_t i) {
                     std::uint32_t q[3];
                     for (int k = 0; k < 3; ++k) {
                         const float off = pos[4 * i + static_cast<std::size_t>(grid.axis(k))];
-                        const float u = std::floor((off / cell[k] + 0.5f) * 4.0f);
+                        const float u = std::floor(off * scale[static_cast<std::size_t>(k)] + 2.0f);
                         q[k] = static_cast<std::uint32_t>(std::clamp(static_cast<int>(u), 0, 3));
                     }
                     std::uint32_t c = 0;

@@ -39,6 +39,7 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     tables_bounded_k_ = k("tables_bounded");
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
     within_k_ = k("order_within_cells");
+    codes_k_ = k("sub_cell_codes");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
     device.fill(cell_count_, cl_uint{0}, 2);
     reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
@@ -160,7 +161,10 @@ void CellPipeline::gather_arrays(ParticleStore& ps, std::size_t n, std::size_t d
 
 void CellPipeline::order_within_cells(ParticleStore& ps, std::size_t n) {
     if (order_ != CellOrder::morton || n == 0) return;
-    set_args(within_k_, n, grid_.params(), ps.keys, ps.pos, ps.vals);
+    const auto scale = sub_cell_scales(grid_.params());
+    set_args(codes_k_, n, scale[0], scale[1], scale[2], ps.pos, ps.scratch);
+    device_.launch("cells.within_codes", codes_k_, n, wg_);
+    set_args(within_k_, n, ps.keys, ps.scratch, ps.vals);
     device_.launch("cells.within", within_k_, n, wg_);
     gather_arrays(ps, n, 0, ps.vals, "cells.within");
 }

@@ -151,6 +151,11 @@ public:
     // moving every array once more; arrival (the default) leaves them in the sort's order.
     void set_order(CellOrder order) { order_ = order == CellOrder::morton ? CellOrder::morton : CellOrder::arrival; }
     CellOrder order() const { return order_; }
+    // What order_within_cells scales the offsets by along s, a, b: 4 sub-cells per cell edge (two
+    // levels of the Morton curve: 64 sub-cells), in float as the kernel takes them.
+    static std::array<float, 3> sub_cell_scales(const GridParams& g) {
+        return {4.0f / g.cell_s, 4.0f / g.cell_a, 4.0f / g.cell_b};
+    }
     // Spare cell capacity kept when the tables grow (Options::cell_headroom).
     void set_cell_headroom(double h) { cell_headroom_ = h; }
     const cl_rt::Buffer& settle_counters() const { return counters_; }
@@ -195,7 +200,7 @@ private:
     Scan scan_;
     std::size_t wg_;
     cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
-    cl::Kernel tables_bounded_k_, ranges_bounded_k_, within_k_;
+    cl::Kernel tables_bounded_k_, ranges_bounded_k_, within_k_, codes_k_;
     cl_rt::Buffer cell_count_;
     bool counted_on_device_ = false;
     double cell_headroom_ = 0.25;

@@ -205,7 +205,9 @@ Json scene_to_document(const Scene& s) {
     run["probe_every"] = s.run.probe_every;
     run["fixed_dt"] = s.run.fixed_dt;
     run["interaction"] = interaction_name(s.run.interaction);
-    run["cell_order"] = cell_order_name(s.run.cell_order);
+    // Only where it is not the default: a scene's hash (checkpoints check it) stays what it was
+    // before the key existed.
+    if (s.run.cell_order != CellOrder::automatic) run["cell_order"] = cell_order_name(s.run.cell_order);
     doc["run"] = run;
     Json render;
     render["method"] = s.render.method == RenderMethod::splat ? "splat" : "surface";
