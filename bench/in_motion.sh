@@ -5,8 +5,9 @@
 # BENCH is clsph-bench-interaction. SPHERIC-2 (default dp 0.006) on DEVICES (default
 # platform:nvidia; one device): the fine and clusters forms' pass and warp counts at t = 0, then on
 # the state at UNTIL (default 0.05 s) as the run left it, with its velocities zeroed (what the pair
-# terms of moving pairs cost), and with each cell's particles in id order (what the order within
-# cells costs). The state is kept in OUTDIR/state.ckpt, so only the first of the three runs steps.
+# terms of moving pairs cost), with each cell's particles in id order (what the order within
+# cells costs), and in the pipeline's Morton order (--cell-order morton: what it gains). The
+# state is kept in OUTDIR/state.ckpt, so only the first run in motion steps.
 # Each run's output is OUTDIR/<name>.txt; the table rows are echoed.
 set -u
 bench=$1 out=$2 devices=${3:-platform:nvidia} dp=${4:-0.006} until=${5:-0.05}
@@ -24,3 +25,4 @@ run at-t0
 run moving --until "$until" --state "$out/state.ckpt"
 run at-rest --until "$until" --state "$out/state.ckpt" --at-rest
 run by-id --until "$until" --state "$out/state.ckpt" --within-cells id
+run morton --until "$until" --state "$out/state.ckpt" --cell-order morton
