@@ -30,7 +30,7 @@ namespace {
 // run.json "failed", the state at t = 0 the message names in last_good.vtu).
 int initial_state_failed(const Scene& scene, const RunArgs& args, const RunPlan& plan, const std::string& message) {
     prepare_output_dir(plan.out_dir, args.force);
-    RunRecord record(plan.out_dir, RunIdentity{args.scene_path, args.overrides, args.command_line, {}, {}, scene.to_json(), {}, {}},
+    RunRecord record(plan.out_dir, RunIdentity{args.scene_path, args.overrides, args.command_line, {}, {}, {}, scene.to_json(), {}, {}},
                      scene.probes);
     const Particles initial = scene.build_particles();
     write_vtu(plan.out_dir + "/last_good.vtu", initial);

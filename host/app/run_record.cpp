@@ -229,8 +229,9 @@ std::string RunRecord::json_text(const Ending& e) const {
       << "  \"scene_file\": " << json_string(identity_.scene_file) << ",\n"
       << "  \"overrides\": " << json_strings(identity_.overrides) << ",\n"
       << "  \"devices\": " << json_strings(identity_.devices) << ",\n"
-      << "  \"interaction\": " << json_strings(identity_.interactions) << ",\n"
-      << "  \"start_time\": " << json_string(started_) << ",\n";
+      << "  \"interaction\": " << json_strings(identity_.interactions) << ",\n";
+    if (!identity_.cell_order.empty()) j << "  \"cell_order\": " << json_string(identity_.cell_order) << ",\n";
+    j << "  \"start_time\": " << json_string(started_) << ",\n";
     if (!identity_.resumes.empty()) {
         j << "  \"resumes\": [";
         for (std::size_t i = 0; i < identity_.resumes.size(); ++i) j << (i ? ", " : "") << identity_.resumes[i];

@@ -112,6 +112,10 @@ TEST_CASE("a tiny dam break: exit 0 and a consistent output directory") {
     CHECK(!j.at("clsph_version").get<std::string>().empty());
     CHECK(!j.at("start_time").get<std::string>().empty());
     CHECK(j.at("devices").size() >= 1);
+    // The order within cells, left to auto: morton where every device ran lanes.
+    const auto forms = j.at("interaction").get<std::vector<std::string>>();
+    const bool all_lanes = !forms.empty() && std::all_of(forms.begin(), forms.end(), [](const std::string& f) { return f == "lanes"; });
+    CHECK(j.at("cell_order") == (all_lanes ? "morton" : "arrival"));
     CHECK(j.at("steps").get<std::uint64_t>() == steps);
     CHECK(j.at("particles").get<std::size_t>() == particles);
     CHECK(j.at("scene").at("physics").at("dp").get<double>() == doctest::Approx(0.0146));

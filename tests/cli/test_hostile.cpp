@@ -43,6 +43,8 @@ TEST_CASE("hostile options and values: exit 1 within seconds, named, nothing wri
         {{"run", scene, "--no-such-option"}, "The following argument was not expected: --no-such-option"},
         {{"run", scene, "--until", "soon"}, "Could not convert: --until = soon"},
         {{"run", scene, "--interaction", "fastest"}, "--interaction"},
+        {{"run", scene, "--cell-order", "hilbert"}, "--cell-order"},
+        {{"run", scene, "--set", "run.cell_order=\"z\""}, scene + ": run.cell_order"},
         {{"run"}, "scene is required"},
         {{"frobnicate"}, "A subcommand is required"},
     };

@@ -220,6 +220,32 @@ TEST_CASE("mesh paths are resolved against the scene file's directory") {
     CHECK(clsph::Scene::from_json_text(s.to_json(), "copy.json").meshes[0].path == s.meshes[0].path);
 }
 
+TEST_CASE("run.cell_order: each order by name, written back by to_json only where not auto; another name is refused") {
+    const std::string base = R"({"physics": {"dp": 0.05}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+            "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}])";
+    CHECK(clsph::Scene::from_json_text(base + "}", "plain.json").run.cell_order == clsph::CellOrder::automatic);
+    // The default is not written: a scene's hash, which checkpoints check, is what it was before the key.
+    CHECK(clsph::Scene::from_json_text(base + "}", "plain.json").to_json().find("cell_order") == std::string::npos);
+    for (const auto order : {clsph::CellOrder::automatic, clsph::CellOrder::arrival, clsph::CellOrder::morton}) {
+        const std::string name = clsph::cell_order_name(order);
+        CAPTURE(name);
+        const clsph::Scene s = clsph::Scene::from_json_text(base + R"(, "run": {"cell_order": ")" + name + "\"}}", "o.json");
+        CHECK(s.run.cell_order == order);
+        CHECK(clsph::Scene::from_json_text(s.to_json(), "back.json").run.cell_order == order);
+        CHECK(clsph::cell_order_from_name(name) == order);
+    }
+    try {
+        (void)clsph::Scene::from_json_text(base + R"(, "run": {"cell_order": "hilbert"}})", "bad.json");
+        FAIL("an unknown order was accepted");
+    } catch (const clsph::Error& e) {
+        const std::string what = e.what();
+        CAPTURE(what);
+        CHECK(what.find("cell_order") != std::string::npos);
+        CHECK(what.find("morton") != std::string::npos);  // the choices are listed
+    }
+    CHECK_THROWS_AS(clsph::cell_order_from_name("Morton"), clsph::Error);
+}
+
 TEST_CASE("run.interaction: every form by name, written back by to_json; another name is refused naming the key") {
     const std::string base = R"({"physics": {"dp": 0.05}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
             "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "run": {"interaction": ")";
