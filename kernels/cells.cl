@@ -187,14 +187,12 @@ inline uint starts_cell(__global const uint* keys, const uint i) { return i == 0
 
 // Morton order within cells (CellOrder::morton, docs/interaction.md): 2 levels, 64 sub-cells.
 #define CLSPH_ORDER_LEVELS 2
-// q = floor(offset * scale + 2^levels / 2) clamped to the sub-cells of an axis, scale = 2^levels /
-// cell in float from the host (CellPipeline::sub_cell_scales); a product and a sum each rounded (no
-// contraction into one fma), so the host's tests compute the same codes.
+// q = floor(offset * scale) + 2^levels / 2, clamped to the sub-cells of an axis, scale = 2^levels /
+// cell in float from the host (CellPipeline::sub_cell_scales): one rounded product and nothing a
+// compiler could contract, so the host's tests compute the same codes.
 inline uint sub_cell_bits(const float offset, const float scale) {
-#pragma OPENCL FP_CONTRACT OFF
     const int top = (1 << CLSPH_ORDER_LEVELS) - 1;
-    const float u = offset * scale;
-    return (uint)clamp((int)floor(u + (float)(1 << (CLSPH_ORDER_LEVELS - 1))), 0, top);
+    return (uint)clamp((int)floor(offset * scale) + (1 << (CLSPH_ORDER_LEVELS - 1)), 0, top);
 }
 
 // Each particle's sub-cell code, into codes[0, n) (the reorder scratch, free until the gathers):

@@ -192,8 +192,8 @@ TEST_CASE("morton order within cells: each cell by sub-cell code, then by its pr
                     std::uint32_t q[3];
                     for (int k = 0; k < 3; ++k) {
                         const float off = pos[4 * i + static_cast<std::size_t>(grid.axis(k))];
-                        const float u = std::floor(off * scale[static_cast<std::size_t>(k)] + 2.0f);
-                        q[k] = static_cast<std::uint32_t>(std::clamp(static_cast<int>(u), 0, 3));
+                        const float u = std::floor(off * scale[static_cast<std::size_t>(k)]);
+                        q[k] = static_cast<std::uint32_t>(std::clamp(static_cast<int>(u) + 2, 0, 3));
                     }
                     std::uint32_t c = 0;
                     for (int level = 1; level >= 0; --level)
