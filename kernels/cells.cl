@@ -324,7 +324,10 @@ inline void cell_ranges(const uint c, const uint k, const GridParams g, __global
         if (s2 >= 0 && s2 < (int)g.n_s && a2 >= 0 && a2 < (int)g.n_a) {
             const uint mid = make_key(g, (uint)s2, (uint)a2, b);
             const uint first = lower_bound_key(cell_key, k, mid - CLSPH_REACH);
-            const uint last = lower_bound_key(cell_key, k, mid + CLSPH_REACH + 1u);
+            // The row's end: at most 2 REACH + 1 non-empty cells on (the keys are unique), so a
+            // few steps rather than a second binary search (half this kernel's time on pocl).
+            uint last = first;
+            while (last < k && cell_key[last] <= mid + CLSPH_REACH) ++last;
             range = (uint2)(cell_start[first], cell_start[last]);
         }
         ranges[c * ROWS + r] = range;
