@@ -73,15 +73,18 @@ def scene_dict(scene_obj):
 class Simulation(_clsph.Simulation):
     """A scene running on OpenCL devices.
 
-    Simulation(scene, overrides=None, devices="", interaction="auto", profile=False)
+    Simulation(scene, overrides=None, devices="", interaction="auto", profile=False, cell_order="auto")
 
     scene: a Scene, a dict (docs/scenes.md) or a path to a JSON scene file; overrides as for
     clsph.scene(). devices: as `clsph run --devices` ("" every GPU, else every device; "cpu",
     "gpu", "all", indices "0,2"). interaction: the force pass's form ("auto", "fine", "lanes",
-    "coarse", "clusters"). profile: time every kernel (Simulation.profile()).
+    "coarse", "clusters"). profile: time every kernel (Simulation.profile()). cell_order: the
+    order of the particles within each cell ("auto", "arrival", "morton"; cell_order() says
+    which the run took).
 
     step() takes one step, run_until(t, callback) steps to simulated time t; particles() and
     probes() read the state back as NumPy arrays, image(camera=...) renders it."""
 
-    def __init__(self, scene_source, overrides=None, devices="", interaction="auto", profile=False):
-        super().__init__(scene(scene_source, overrides), devices, interaction, profile)
+    def __init__(self, scene_source, overrides=None, devices="", interaction="auto", profile=False,
+                 cell_order="auto"):
+        super().__init__(scene(scene_source, overrides), devices, interaction, profile, cell_order)

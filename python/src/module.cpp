@@ -52,10 +52,12 @@ py::dict particles_dict(const Particles& p) {
     return d;
 }
 
-Options make_options(const std::string& devices, const std::string& interaction, bool profile) {
+Options make_options(const std::string& devices, const std::string& interaction, bool profile,
+                     const std::string& cell_order) {
     Options o;
     o.devices = devices;
     o.interaction = interaction_from_name(interaction);
+    o.cell_order = cell_order_from_name(cell_order);
     o.profile = profile;
     return o;
 }
@@ -181,11 +183,14 @@ PYBIND11_MODULE(_clsph, m) {
         });
 
     py::class_<Simulation>(m, "Simulation", "A scene running on OpenCL devices.")
-        .def(py::init([](const Scene& scene, const std::string& devices, const std::string& interaction, bool profile) {
+        .def(py::init([](const Scene& scene, const std::string& devices, const std::string& interaction, bool profile,
+                         const std::string& cell_order) {
+                 Options o = make_options(devices, interaction, profile, cell_order);
                  py::gil_scoped_release unlocked;  // set-up builds kernels and uploads particles
-                 return std::make_unique<Simulation>(scene, make_options(devices, interaction, profile));
+                 return std::make_unique<Simulation>(scene, o);
              }),
-             py::arg("scene"), py::arg("devices") = "", py::arg("interaction") = "auto", py::arg("profile") = false)
+             py::arg("scene"), py::arg("devices") = "", py::arg("interaction") = "auto", py::arg("profile") = false,
+             py::arg("cell_order") = "auto")
         .def("step", [](Simulation& s) {
             {
                 py::gil_scoped_release unlocked;
@@ -261,6 +266,10 @@ PYBIND11_MODULE(_clsph, m) {
             for (const auto& d : s.shares()) out.push_back(interaction_name(d.interaction));
             return out;
         })
+        .def("cell_order", [](const Simulation& s) {
+            const auto shares = s.shares();
+            return shares.empty() ? std::string() : std::string(cell_order_name(shares.front().cell_order));
+        }, "The order within cells the run resolved to: \"arrival\" or \"morton\" (docs/interaction.md).")
         .def("profile", [](Simulation& s) {
             py::dict out;
             for (const auto& k : s.profile()) out[py::str(k.name)] = out.contains(k.name) ? out[py::str(k.name)].cast<double>() + k.seconds : k.seconds;

@@ -52,6 +52,18 @@ def test_bad_keys_raise_scene_error_naming_the_key():
         clsph.Simulation(clsph.scene(HYDROSTATIC), devices="99")
 
 
+def test_the_order_within_cells_is_asked_for_by_name_and_reported():
+    for order in ("arrival", "morton"):
+        sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device(), cell_order=order)
+        assert sim.cell_order() == order
+    # auto: morton where every device runs lanes (pocl's CPU form), arrival elsewhere.
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    forms = sim.interaction_forms()
+    assert sim.cell_order() == ("morton" if forms and all(f == "lanes" for f in forms) else "arrival")
+    with pytest.raises(clsph.Error, match="morton"):
+        clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device(), cell_order="hilbert")
+
+
 def test_particles_are_numpy_arrays():
     sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
     p = sim.particles()
