@@ -38,8 +38,6 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     drift_keys_k_ = k("drift_settle_keys");
     tables_bounded_k_ = k("tables_bounded");
     ranges_bounded_k_ = k("neighbour_ranges_bounded");
-    within_k_ = k("order_within_cells");
-    codes_k_ = k("sub_cell_codes");
     cell_count_ = device.alloc(2 * sizeof(cl_uint), "cell count");
     device.fill(cell_count_, cl_uint{0}, 2);
     reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
@@ -157,6 +155,17 @@ void CellPipeline::gather_arrays(ParticleStore& ps, std::size_t n, std::size_t d
     set_args(gather1_k_, n, dst_offset, order, ps.id, ps.scratch);
     device_.launch(name + ".uint", gather1_k_, n, wg_);
     device_.copy(ps.scratch, ps.id, n * sizeof(cl_uint), dst_offset * sizeof(cl_uint), dst_offset * sizeof(cl_uint));
+}
+
+void CellPipeline::set_order(CellOrder order) {
+    order_ = order == CellOrder::morton ? CellOrder::morton : CellOrder::arrival;
+    // Built here, on the thread that sets the run up, and only for morton: a run in arrival order
+    // never compiles cell_order.cl.
+    if (order_ == CellOrder::morton && !within_k_()) {
+        const std::string opts = grid_.kernel_options();
+        within_k_ = device_.kernel("cell_order.cl", "order_within_cells", opts);
+        codes_k_ = device_.kernel("cell_order.cl", "sub_cell_codes", opts);
+    }
 }
 
 void CellPipeline::order_within_cells(ParticleStore& ps, std::size_t n) {

@@ -148,8 +148,9 @@ public:
     void set_counted_cells(std::size_t k) { cells_ = std::min(k, cell_capacity_); }
     // The order within cells (clsph/interaction.hpp; never automatic): with morton every build of
     // the tables first sorts each cell's particles along the sub-cell Morton curve (order_within_cells),
-    // moving every array once more; arrival (the default) leaves them in the sort's order.
-    void set_order(CellOrder order) { order_ = order == CellOrder::morton ? CellOrder::morton : CellOrder::arrival; }
+    // moving every array once more (kernels/cell_order.cl, built by set_order); arrival (the
+    // default) leaves them in the sort's order.
+    void set_order(CellOrder order);
     CellOrder order() const { return order_; }
     // What order_within_cells scales the offsets by along s, a, b: 4 sub-cells per cell edge (two
     // levels of the Morton curve: 64 sub-cells), in float as the kernel takes them.
