@@ -2,60 +2,48 @@
 
 #include "clsph/error.hpp"
 
+#include <utility>
+
 namespace clsph {
 
 namespace {
-struct Named {
-    Interaction form;
-    const char* name;
-};
-constexpr Named kNames[] = {{Interaction::automatic, "auto"},
-                            {Interaction::fine, "fine"},
-                            {Interaction::lanes, "lanes"},
-                            {Interaction::coarse, "coarse"},
-                            {Interaction::clusters, "clusters"}};
-}  // namespace
-
-const char* interaction_name(Interaction form) {
-    for (const auto& n : kNames)
-        if (n.form == form) return n.name;
+// A value's name in a table of (value, name) pairs, and the inverse, which lists the names.
+template <typename T, std::size_t N>
+const char* name_in(const std::pair<T, const char*> (&table)[N], T value) {
+    for (const auto& [v, name] : table)
+        if (v == value) return name;
     return "?";
 }
 
-Interaction interaction_from_name(const std::string& name) {
+template <typename T, std::size_t N>
+T value_in(const std::pair<T, const char*> (&table)[N], const std::string& name, const char* what) {
     std::string list;
-    for (const auto& n : kNames) {
-        if (name == n.name) return n.form;
-        list += list.empty() ? n.name : std::string(", ") + n.name;
+    for (const auto& [v, n] : table) {
+        if (name == n) return v;
+        list += list.empty() ? n : std::string(", ") + n;
     }
-    throw Error("unknown interaction form '" + name + "' (choose one of " + list + ")");
+    throw Error(std::string("unknown ") + what + " '" + name + "' (choose one of " + list + ")");
 }
+
+constexpr std::pair<Interaction, const char*> kForms[] = {{Interaction::automatic, "auto"},
+                                                          {Interaction::fine, "fine"},
+                                                          {Interaction::lanes, "lanes"},
+                                                          {Interaction::coarse, "coarse"},
+                                                          {Interaction::clusters, "clusters"}};
+constexpr std::pair<CellOrder, const char*> kOrders[] = {
+    {CellOrder::automatic, "auto"}, {CellOrder::arrival, "arrival"}, {CellOrder::morton, "morton"}};
+}  // namespace
+
+const char* interaction_name(Interaction form) { return name_in(kForms, form); }
+
+Interaction interaction_from_name(const std::string& name) { return value_in(kForms, name, "interaction form"); }
 
 std::vector<Interaction> interaction_forms() {
     return {Interaction::fine, Interaction::lanes, Interaction::coarse, Interaction::clusters};
 }
 
-namespace {
-struct NamedOrder {
-    CellOrder order;
-    const char* name;
-};
-constexpr NamedOrder kOrders[] = {{CellOrder::automatic, "auto"}, {CellOrder::arrival, "arrival"}, {CellOrder::morton, "morton"}};
-}  // namespace
+const char* cell_order_name(CellOrder order) { return name_in(kOrders, order); }
 
-const char* cell_order_name(CellOrder order) {
-    for (const auto& n : kOrders)
-        if (n.order == order) return n.name;
-    return "?";
-}
-
-CellOrder cell_order_from_name(const std::string& name) {
-    std::string list;
-    for (const auto& n : kOrders) {
-        if (name == n.name) return n.order;
-        list += list.empty() ? n.name : std::string(", ") + n.name;
-    }
-    throw Error("unknown cell order '" + name + "' (choose one of " + list + ")");
-}
+CellOrder cell_order_from_name(const std::string& name) { return value_in(kOrders, name, "cell order"); }
 
 }  // namespace clsph
