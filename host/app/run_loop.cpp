@@ -30,12 +30,6 @@ std::vector<std::string> interaction_forms(const Simulation& sim) {
     return out;
 }
 
-// The run's order within cells (the same on every device; empty on a rank without devices).
-std::string cell_order(const Simulation& sim) {
-    const auto shares = sim.shares();
-    return shares.empty() ? std::string() : cell_order_name(shares.front().cell_order);
-}
-
 using clock = std::chrono::steady_clock;
 
 double seconds_since(clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); }
@@ -56,7 +50,7 @@ public:
           resume_(resume),
           record_(plan.out_dir,
                   RunIdentity{args.scene_path, args.overrides, args.command_line, all_device_names(sim, args),
-                              interaction_forms(sim), cell_order(sim), sim.scene().to_json(), resume ? resume->start_time : std::string(),
+                              interaction_forms(sim), cell_order_name(sim.cell_order()), sim.scene().to_json(), resume ? resume->start_time : std::string(),
                               resume ? resume->resumes : std::vector<std::string>{}},
                   sim.scene().probes, resume ? &resume->point : nullptr, speaks(args)),
           filter_(FrameFilter::from_options(args.output_stride, args.output_box, args.fields)),

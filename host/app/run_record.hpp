@@ -22,7 +22,7 @@ struct RunIdentity {
     std::vector<std::string> command_line;
     std::vector<std::string> devices;
     std::vector<std::string> interactions;  // the interaction form each device runs, in device order
-    std::string cell_order;                 // the order within cells (the run's: arrival or morton)
+    std::string cell_order;                 // the order within cells (the run's: arrival or morton; empty: not known)
     std::string scene_json;  // Scene::to_json(): the resolved scene, every default filled in
     // clsph resume: the run's first start time and the resumes so far, each a JSON object.
     std::string start_time;

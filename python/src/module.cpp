@@ -266,10 +266,8 @@ PYBIND11_MODULE(_clsph, m) {
             for (const auto& d : s.shares()) out.push_back(interaction_name(d.interaction));
             return out;
         })
-        .def("cell_order", [](const Simulation& s) {
-            const auto shares = s.shares();
-            return shares.empty() ? std::string() : std::string(cell_order_name(shares.front().cell_order));
-        }, "The order within cells the run resolved to: \"arrival\" or \"morton\" (docs/interaction.md).")
+        .def("cell_order", [](const Simulation& s) { return std::string(cell_order_name(s.cell_order())); },
+             "The order within cells the run resolved to: \"arrival\" or \"morton\" (docs/interaction.md).")
         .def("profile", [](Simulation& s) {
             py::dict out;
             for (const auto& k : s.profile()) out[py::str(k.name)] = out.contains(k.name) ? out[py::str(k.name)].cast<double>() + k.seconds : k.seconds;

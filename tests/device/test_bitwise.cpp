@@ -212,6 +212,7 @@ TEST_CASE("both orders within cells: bitwise identical on 1, 2 and 3 devices whi
             o.cell_order = order;
             return o;
         });
+        for (const auto& sim : sims) CHECK(sim->cell_order() == order);
         CHECK(sims.front()->shares().front().cell_order == order);
         CHECK(first_difference(sims, 60) == -1);
     }

@@ -143,6 +143,9 @@ public:
     const Scene& scene() const;
     std::vector<std::string> device_names() const;
     std::vector<DeviceShare> shares() const;  // each device's part of the domain now
+    // The order within cells the run resolved to (arrival or morton; the same on every device and
+    // rank, also on a rank without devices).
+    CellOrder cell_order() const;
 
     // The floating bodies now, in the order of boundaries.boxes (empty: none).
     std::vector<BodySample> bodies() const;

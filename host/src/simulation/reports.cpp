@@ -25,6 +25,8 @@ std::vector<DeviceShare> Simulation::shares() const {
     return out;
 }
 
+CellOrder Simulation::cell_order() const { return impl_->driver.cell_order(); }
+
 std::vector<KernelTime> Simulation::profile() {
     std::vector<KernelTime> out;
     for (auto& d : impl_->opened.devices)
