@@ -251,9 +251,9 @@ TEST_CASE("one device opened as 2 and 4 slabs is bitwise the one-slab run, the b
     // the edges' sorts start from).
     // Three slabs cut at a quarter and three quarters besides: the middle one wide enough for its edges, with arrivals on
     // both sides, so both edges sort with their bounds.
-    // On pocl's pthread device: several slabs enqueueing from their threads into pocl 3.1's basic
-    // device now and then stop in pocl's own assertion (pocl_release_dlhandle_cache), with or
-    // without the changes this case was written for.
+    // On pocl's pthread device. Several slabs of one pocl device used to stop now and then in pocl
+    // 3.1's own assertion (pocl_release_dlhandle_cache), since they shared each kernel's compiled
+    // library; each slab now builds its own (Quirks::build_salt; test_runtime.cpp).
     std::vector<std::unique_ptr<Simulation>> sims;
     for (const std::size_t slabs : {1u, 2u, 4u, 3u}) {
         Options o;

@@ -131,6 +131,48 @@ TEST_CASE("kernels build, run and time on every device") {
     }
 }
 
+TEST_CASE("every slab of a device whose builds are salted builds its own binaries, and runs") {
+    // pocl 3.1 shares a kernel's compiled library between the openings of one device, and its
+    // count of that library's users breaks when two of them run it at once (Quirks::build_salt):
+    // one pthread device opened as four slabs stopped in pocl's assertion on SPHERIC-2 every time.
+    for (auto* dev : test::devices()) {
+        CAPTURE(dev->label());
+        cl_rt::OpenOptions options;
+        options.slabs = {3};
+        auto slabs = cl_rt::open_devices(std::to_string(dev->info().index), options);
+        REQUIRE(slabs.size() == 3);
+        const bool salted = !slabs[0]->programs().salt().empty();
+        CHECK(salted == !dev->quirks().build_salt.empty());
+        for (std::size_t a = 0; a < slabs.size(); ++a) {
+            CHECK(slabs[a]->label().find("slab " + std::to_string(a + 1) + "/3") != std::string::npos);
+            for (std::size_t b = a + 1; salted && b < slabs.size(); ++b)
+                CHECK(slabs[a]->programs().salt() != slabs[b]->programs().salt());
+        }
+        // All three build and run the same kernel at once, each on its own queue.
+        const std::size_t n = 4096;
+        std::vector<cl_rt::Buffer> xs, ys;
+        std::vector<std::vector<float>> out(slabs.size(), std::vector<float>(n));
+        for (std::size_t k = 0; k < slabs.size(); ++k) {
+            auto& d = *slabs[k];
+            std::vector<float> x(n, static_cast<float>(k + 1)), y(n, 1.0f);
+            xs.push_back(d.alloc(n * sizeof(float), "x"));
+            ys.push_back(d.alloc(n * sizeof(float), "y"));
+            d.write(xs.back(), x.data(), n);
+            d.write(ys.back(), y.data(), n);
+            auto kern = d.kernel("selftest.cl", "axpy");
+            kern.setArg(0, static_cast<cl_uint>(n));
+            kern.setArg(1, 3.0f);
+            kern.setArg(2, xs.back().get());
+            kern.setArg(3, ys.back().get());
+            d.launch("selftest.axpy", kern, n, d.work_group_size(64));
+        }
+        for (std::size_t k = 0; k < slabs.size(); ++k) {
+            slabs[k]->read(ys[k], out[k].data(), n);
+            for (std::size_t i = 0; i < n; ++i) REQUIRE(out[k][i] == 3.0f * static_cast<float>(k + 1) + 1.0f);
+        }
+    }
+}
+
 TEST_CASE("the balancer's timer measures a pass as long as the host sees it, on every device") {
     // rusticl completes a batch's events together: a timer that read the host clock in the
     // callbacks of markers around the pass timed 290 ms as 18 us, and the balancer put a whole

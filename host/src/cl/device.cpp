@@ -11,6 +11,16 @@ namespace clsph::cl_rt {
 
 std::vector<cl::Device> platform_devices(const cl::Platform& platform);  // devices.cpp
 
+namespace {
+// Where a device's builds are salted (Quirks::build_salt: pocl), each slab of it gets binaries of
+// its own too: pocl 3.1's shared-library count breaks as soon as two openings of one device run
+// the same kernel (four slabs of one pthread device stopped in its assertion every time).
+std::string slab_salt(const std::string& salt, std::size_t slab) {
+    if (salt.empty() || slab == 0) return salt;
+    return salt + " -DCLSPH_SLAB=" + std::to_string(slab);
+}
+}  // namespace
+
 Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const OpenOptions& options)
     : info_(std::move(info)),
       label_("#" + std::to_string(info_.index) + " " + info_.name + " (" + info_.platform + ")" + options.label_suffix),
@@ -20,7 +30,7 @@ Device::Device(DeviceInfo info, cl::Device device, cl::Context context, const Op
       faults_(std::make_unique<FaultInjector>(options.faults)),
       memory_(context_, label_, static_cast<std::size_t>(info_.global_memory),
               static_cast<std::size_t>(info_.max_allocation), faults_.get()),
-      programs_(context_, device_, label_, faults_.get(), quirks_.build_salt),
+      programs_(context_, device_, label_, faults_.get(), slab_salt(quirks_.build_salt, options.slab)),
       profiler_(quirks_.fake_event_timestamps) {
     cl_int err = CL_SUCCESS;
     // Queues always allow profiling (its cost is negligible on the drivers we know), so timing can
@@ -188,6 +198,7 @@ std::vector<std::unique_ptr<Device>> open_devices(const std::string& spec, const
             for (const auto& f : options.faults)
                 if (f.device == out.size()) mine.faults.push_back(f);
             if (slabs > 1) mine.label_suffix = " slab " + std::to_string(k + 1) + "/" + std::to_string(slabs);
+            mine.slab = k;
             out.push_back(std::make_unique<Device>(info, dev, ctx, mine));
         }
     }

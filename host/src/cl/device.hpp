@@ -29,6 +29,7 @@ struct OpenOptions {
     // times, sharing one context, each with its own queues and labelled "slab k/n".
     std::vector<std::size_t> slabs = {};
     std::string label_suffix = {};  // set by open_devices() for each slab
+    std::size_t slab = 0;           // which opening of its device this is (0: the first or only one)
 };
 
 class Device {

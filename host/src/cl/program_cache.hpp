@@ -20,6 +20,7 @@ public:
     cl::Kernel kernel(const std::string& file, const std::string& name, const std::string& options = {});
     cl::Program& program(const std::string& file, const std::string& options = {});
     std::size_t size() const { return programs_.size(); }
+    const std::string& salt() const { return salt_; }
 
 private:
     cl::Context context_;

@@ -43,7 +43,8 @@ struct Quirks {
     // Two basic devices stop there within a few steps of the dam break, every time (the binary
     // before this change too); three pthread devices did once in a CI run's render test. A define
     // naming the device gives each pocl device its own binaries, so nothing is shared. Appended
-    // to every kernel build on that device.
+    // to every kernel build on that device, with a second define for each further slab of it
+    // (device.cpp): one pthread device opened as four slabs stopped there every time without.
     std::string build_salt;
 
     // --- found while speeding up the interaction pass (issue 12) ---
