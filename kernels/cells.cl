@@ -202,22 +202,24 @@ __kernel void locate_keys(const uint count, const uint n, __global const uint* k
 }
 
 // After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and
-// cell_start[K] = n. Then scan[] is rewritten in place as the cell index of each particle.
-// Cells beyond the tables' capacity `cap` are not written (the step ahead launches over a bound and
-// finds out on the device that it was exceeded: bound_cells).
+// cell_start[K] = n; scan[] is rewritten in place as the cell index of each particle, in the same
+// launch (each work-item reads scan[i] before it rewrites it, and scan[n] is never rewritten).
+// Cells beyond the tables' capacity `cap` are not written.
 __kernel void scatter_cells(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
                             __global uint* cell_key, __global uint* cell_start) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const uint c = scan[i];
-    if (starts_cell(keys, i) && c < cap) {
+    const uint first = starts_cell(keys, i);
+    if (first && c < cap) {
         cell_key[c] = keys[i];
         cell_start[c] = i;
     }
     if (i == n - 1u && scan[n] <= cap) cell_start[scan[n]] = n;
+    scan[i] = c + first - 1u;
 }
 
-// The step ahead (no count read back): scatter_cells and cell_of_particle in one launch, over
+// The step ahead (no count read back): scatter_cells over
 // max(n, cap + 1), with the tables holding `cap` cells (every launch over cells runs over all of
 // them). The count K = scan[n] goes to count[0] (at most cap: what the tables hold) and count[1]
 // (as found); cells K+1..cap start at n, so that a cell beyond K is empty to every loop. K > cap
@@ -243,12 +245,6 @@ __kernel void tables_bounded(const uint n, const uint cap, __global const uint* 
     }
     if (i == n - 1u && k <= cap) cell_start[k] = n;
     scan[i] = c + first - 1u;
-}
-
-__kernel void cell_of_particle(const uint n, __global const uint* keys, __global uint* scan) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    scan[i] = scan[i] + starts_cell(keys, i) - 1u;  // each element reads and writes only itself
 }
 
 // ranges[c * ROWS + r] = [begin, end) of the particles in neighbour row r of cell c (grid.h: the

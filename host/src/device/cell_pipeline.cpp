@@ -25,7 +25,6 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     gather1_k_ = k("gather_uint");
     flag_k_ = k("flag_cells");
     scatter_k_ = k("scatter_cells");
-    cell_of_k_ = k("cell_of_particle");
     ranges_k_ = k("neighbour_ranges");
     locate_k_ = k("locate_keys");
     settle_k_ = k("settle_owned");
@@ -320,9 +319,7 @@ std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
     const std::size_t k = cell_count_host_.empty() ? 0 : cell_count_host_[0];
     reserve_cells(k);
     set_args(scatter_k_, n, cell_capacity_, ps.keys, ps.vals, cell_key_, cell_start_);
-    d.launch("cells.scatter", scatter_k_, n, wg_);
-    set_args(cell_of_k_, n, ps.keys, ps.vals);
-    d.launch("cells.cell_of", cell_of_k_, n, wg_);
+    d.launch("cells.scatter", scatter_k_, n, wg_);  // and each particle's cell, in place
     set_args(ranges_k_, k, grid_.params(), cell_key_, cell_start_, ranges_);
     d.launch("cells.ranges", ranges_k_, k, wg_);
     cells_ = k;

@@ -200,7 +200,7 @@ private:
     RadixSort sort_, edge_sort_;
     Scan scan_;
     std::size_t wg_;
-    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, cell_of_k_, ranges_k_, locate_k_;
+    cl::Kernel keys_k_, gather4_k_, gather1_k_, flag_k_, scatter_k_, ranges_k_, locate_k_;
     cl::Kernel tables_bounded_k_, ranges_bounded_k_, within_k_, codes_k_;
     cl_rt::Buffer cell_count_;
     bool counted_on_device_ = false;
