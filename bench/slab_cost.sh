@@ -19,5 +19,18 @@ for n in 2 4 1; do
     run new "$new" "$n"
     run base "$base" "$n"
 done
+# The table for BENCHMARKS.md: each build's ms/step as 1, 2 and 4 slabs, and the overhead on 1 slab.
+for name in new base; do
+    one=$(grep -ohE '\*\*[0-9.]+ ms/step\*\*' "$out/$name-1.txt" | tr -d '*' | cut -d' ' -f1)
+    line="$name:"
+    for n in 1 2 4; do
+        ms=$(grep -ohE '\*\*[0-9.]+ ms/step\*\*' "$out/$name-$n.txt" | tr -d '*' | cut -d' ' -f1)
+        [ -n "$ms" ] || { line="$line $n slab(s) failed;"; continue; }
+        line="$line $n slab(s) $ms ms/step"
+        [ -n "$one" ] && [ "$n" != 1 ] && line="$line ($(awk -v a="$ms" -v b="$one" 'BEGIN { printf "%+.1f %%", 100 * (a / b - 1) }'))"
+        line="$line;"
+    done
+    echo "$line"
+done
 run newtrace "$new" 2 --trace "$out/T.csv"
 python3 "$(dirname "$0")/../scripts/trace_busy.py" "$out/T.csv"
