@@ -201,30 +201,35 @@ __kernel void locate_keys(const uint count, const uint n, __global const uint* k
     out[t] = lower_bound_key(keys, n, thresholds[t]);
 }
 
-// After the exclusive scan of the flags: cell_key[c], cell_start[c] for each non-empty cell, and
-// cell_start[K] = n; scan[] is rewritten in place as the cell index of each particle, in the same
-// launch (each work-item reads scan[i] before it rewrites it, and scan[n] is never rewritten).
-// Cells beyond the tables' capacity `cap` are not written.
-__kernel void scatter_cells(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
-                            __global uint* cell_key, __global uint* cell_start) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
+// After the exclusive scan of the flags (K = scan[n] cells), particle i < n's part of the tables:
+// cell_key[c], cell_start[c] where it starts a non-empty cell, cell_start[K] = n from the last
+// particle, and scan[i] rewritten in place as its cell index (each work-item reads scan[i] before
+// it rewrites it, and scan[n] is never rewritten). Cells beyond the tables' capacity `cap` are not
+// written.
+inline void scatter_cell(const uint i, const uint n, const uint cap, const uint k, __global const uint* keys,
+                         __global uint* scan, __global uint* cell_key, __global uint* cell_start) {
     const uint c = scan[i];
     const uint first = starts_cell(keys, i);
     if (first && c < cap) {
         cell_key[c] = keys[i];
         cell_start[c] = i;
     }
-    if (i == n - 1u && scan[n] <= cap) cell_start[scan[n]] = n;
+    if (i == n - 1u && k <= cap) cell_start[k] = n;
     scan[i] = c + first - 1u;
 }
 
-// The step ahead (no count read back): scatter_cells over
-// max(n, cap + 1), with the tables holding `cap` cells (every launch over cells runs over all of
-// them). The count K = scan[n] goes to count[0] (at most cap: what the tables hold) and count[1]
-// (as found); cells K+1..cap start at n, so that a cell beyond K is empty to every loop. K > cap
-// halts the step (step_clock.cl): the host grows the tables and redoes it. Each work-item reads
-// scan[i] before it rewrites it, and scan[n] is never rewritten.
+// The tables and each particle's cell in one launch over the particles, the count read back.
+__kernel void scatter_cells(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
+                            __global uint* cell_key, __global uint* cell_start) {
+    const uint i = get_global_id(0);
+    if (i < n) scatter_cell(i, n, cap, scan[n], keys, scan, cell_key, cell_start);
+}
+
+// The step ahead (no count read back): scatter_cells' work over max(n, cap + 1), with the tables
+// holding `cap` cells (every launch over cells runs over all of them). The count K = scan[n] goes to
+// count[0] (at most cap: what the tables hold) and count[1] (as found); cells K+1..cap start at n,
+// so that a cell beyond K is empty to every loop. K > cap halts the step (step_clock.cl): the host
+// grows the tables and redoes it.
 __kernel void tables_bounded(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
                              __global uint* cell_key, __global uint* cell_start, __global uint* count,
                              __global uint* halt) {
@@ -236,15 +241,7 @@ __kernel void tables_bounded(const uint n, const uint cap, __global const uint* 
         if (k > cap) atomic_or(halt, 4u);
     }
     if (i > k && i <= cap) cell_start[i] = n;
-    if (i >= n) return;
-    const uint c = scan[i];
-    const uint first = starts_cell(keys, i);
-    if (first && c < cap) {
-        cell_key[c] = keys[i];
-        cell_start[c] = i;
-    }
-    if (i == n - 1u && k <= cap) cell_start[k] = n;
-    scan[i] = c + first - 1u;
+    if (i < n) scatter_cell(i, n, cap, k, keys, scan, cell_key, cell_start);
 }
 
 // ranges[c * ROWS + r] = [begin, end) of the particles in neighbour row r of cell c (grid.h: the
