@@ -31,6 +31,15 @@ std::vector<DeviceInfo> fake_devices() {
             make(2, "Portable Computing Language", "The pocl project", "pthread-cpu", "cpu"),
             make(3, "rusticl", "Mesa/X.org", "llvmpipe", "cpu")};
 }
+// y = a x + y on `dev` (kernels/selftest.cl), launched as "selftest.axpy"; the host reads y later.
+void launch_axpy(cl_rt::Device& dev, std::size_t n, float a, cl_rt::Buffer& x, cl_rt::Buffer& y) {
+    auto k = dev.kernel("selftest.cl", "axpy");
+    k.setArg(0, static_cast<cl_uint>(n));
+    k.setArg(1, a);
+    k.setArg(2, x.get());
+    k.setArg(3, y.get());
+    dev.launch("selftest.axpy", k, n, dev.work_group_size(64));
+}
 }  // namespace
 
 TEST_SUITE("runtime") {
@@ -109,13 +118,8 @@ TEST_CASE("kernels build, run and time on every device") {
         auto by = dev->alloc(n * sizeof(float), "y");
         dev->write(bx, x.data(), n);
         dev->write(by, y.data(), n);
-        auto k = dev->kernel("selftest.cl", "axpy");
-        k.setArg(0, static_cast<cl_uint>(n));
-        k.setArg(1, 2.0f);
-        k.setArg(2, bx.get());
-        k.setArg(3, by.get());
         dev->profiler().enable(true);
-        dev->launch("selftest.axpy", k, n, dev->work_group_size(64));
+        launch_axpy(*dev, n, 2.0f, bx, by);
         dev->read(by, y.data(), n);
         for (std::size_t i = 0; i < n; ++i) REQUIRE(y[i] == doctest::Approx(2.0f * static_cast<float>(i) + 1.0f));
         const auto& stats = dev->profiler().stats();
@@ -159,12 +163,7 @@ TEST_CASE("every slab of a device whose builds are salted builds its own binarie
             ys.push_back(d.alloc(n * sizeof(float), "y"));
             d.write(xs.back(), x.data(), n);
             d.write(ys.back(), y.data(), n);
-            auto kern = d.kernel("selftest.cl", "axpy");
-            kern.setArg(0, static_cast<cl_uint>(n));
-            kern.setArg(1, 3.0f);
-            kern.setArg(2, xs.back().get());
-            kern.setArg(3, ys.back().get());
-            d.launch("selftest.axpy", kern, n, d.work_group_size(64));
+            launch_axpy(d, n, 3.0f, xs.back(), ys.back());
         }
         for (std::size_t k = 0; k < slabs.size(); ++k) {
             slabs[k]->read(ys[k], out[k].data(), n);
