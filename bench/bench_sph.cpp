@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
     double dp = 0.006, until = 0.1;
     std::string interaction = "auto", cell_order = "auto";
     std::string balance = "dynamic", balance_log, trace;
-    bool synchronous = false;
+    bool synchronous = false, whole_force_pass = false;
     std::size_t max_steps = 0, slabs = 1;
     std::string scene_file, viscosity = "artificial";
     double nu = clsph::PhysicsParams{}.kinematic_viscosity;
@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
     app.add_option("--balance-log", balance_log, "several devices: per-step balancer CSV");
     app.add_option("--slabs", slabs, "open each device as N slabs (what several slabs cost, on one device)");
     app.add_flag("--synchronous", synchronous, "wait for every step on the host (the step ahead off)");
+    app.add_flag("--whole-force-pass", whole_force_pass,
+                 "several devices or slabs: the whole force pass after the merge (the halo not overlapped with the interior)");
     app.add_option("--trace", trace, "CSV of every command's device start and end (ns) in the timed window, and a "
                                      "summary of where each device idles");
     CLI11_PARSE(app, argc, argv);
@@ -113,9 +115,10 @@ int main(int argc, char** argv) {
         opts.trace = !trace.empty();
         opts.synchronous = synchronous;  // default: steps ahead of the host on one device (issue 15)
         if (max_steps) opts.step_limit = max_steps;
-        if (slabs > 1) {
+        if (slabs > 1 || whole_force_pass) {
             clsph::testing::Seams seams;
             seams.slabs = slabs;
+            seams.whole_force_pass = whole_force_pass;
             clsph::testing::set_seams(opts, std::move(seams));
         }
         opts.on_setup = [t0](const std::string& line) {

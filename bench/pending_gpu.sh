@@ -6,7 +6,9 @@
 #   1. SPHERIC-2 at dp 0.006 to t = 0.05 s with cells in arrival and in Morton order, alternated
 #      (what the ordering costs a GPU and whether `fine` gains from it; its kernels' first build
 #      by NVIDIA's compiler);
-#   2. bench/slab_cost.sh: 1, 2 and 4 slabs of the one device, and the 2 slabs' trace joined;
+#   2. bench/slab_cost.sh: 1, 2 and 4 slabs of the one device, the halo overlapped with the
+#      interior ("new") against the whole force pass after the merge ("base"), alternated, and the
+#      2 slabs' trace joined;
 #   3. bench/in_motion.sh: the interaction pass at t = 0 and in motion, fine and clusters.
 # Each part's output is under OUTDIR; the lines that go into BENCHMARKS.md are echoed.
 set -u
@@ -22,7 +24,7 @@ for round in 1 2; do
         grep -E '\*\*[0-9.]+ ms/step\*\*|cells in|^\| (sph.forces|cells.within[a-z_.0-9]*) ' "$f"
     done
 done
-bash "$here/slab_cost.sh" "$bin/clsph-bench-sph" "$bin/clsph-bench-sph" "$out/slabs" "$devices"
+BASE_ARGS=--whole-force-pass bash "$here/slab_cost.sh" "$bin/clsph-bench-sph" "$bin/clsph-bench-sph" "$out/slabs" "$devices"
 echo "=== slabs done at $(( $(date +%s) - t0 )) s"
 bash "$here/in_motion.sh" "$bin/clsph-bench-interaction" "$out/in_motion" "$devices"
 echo "=== in motion done at $(( $(date +%s) - t0 )) s"

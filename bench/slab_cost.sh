@@ -3,9 +3,12 @@
 #   bench/slab_cost.sh BASE_BENCH NEW_BENCH OUTDIR [DEVICES]
 # Each is clsph-bench-sph (e.g. main's and a branch's); SPHERIC-2 at dp 0.006 to t = 0.05 as 2, 4 and
 # 1 slabs, the two alternated, then the new one's 2 slabs traced and joined (scripts/trace_busy.py).
-# DEVICES defaults to platform:nvidia. Each run's output is OUTDIR/{base,new}-N.txt.
+# DEVICES defaults to platform:nvidia. Each run's output is OUTDIR/{base,new}-N.txt. BASE_ARGS
+# (environment) are further arguments of the base's runs: one build against itself with the halo
+# not overlapped is BASE_ARGS=--whole-force-pass with the same binary twice.
 set -u
 base=$1 new=$2 out=$3 devices=${4:-platform:nvidia}
+read -r -a base_args <<< "${BASE_ARGS:-}"
 mkdir -p "$out"
 run() {  # name binary slabs [extra...]
     local name=$1 bin=$2 n=$3
@@ -17,7 +20,7 @@ run() {  # name binary slabs [extra...]
 }
 for n in 2 4 1; do
     run new "$new" "$n"
-    run base "$base" "$n"
+    run base "$base" "$n" "${base_args[@]}"
 done
 # The table for BENCHMARKS.md: each build's ms/step as 1, 2 and 4 slabs, and the overhead on 1 slab.
 for name in new base; do

@@ -218,6 +218,57 @@ TEST_CASE("both orders within cells: bitwise identical on 1, 2 and 3 devices whi
     }
 }
 
+TEST_CASE("the halo overlapped with the interior's forces: bitwise the whole pass on 1, 2 and 3 devices") {
+    // With several devices the forces of the owned particles two columns or more inside a device's
+    // old columns run while the arrivals travel, on tables of the kept particles alone; the rest
+    // after the merge. The merge's sorts must leave those forces alone (the edge sort once
+    // borrowed the scratch they sit in: 258 particles differed on three devices by step 20), and
+    // their tables must list each cell as the merged ones do. Cuts sweep, so slabs grow, shrink
+    // and move by two columns a step; each form, and mDBC with no-slip walls (the pass after the
+    // forces, and forces that read the walls' velocities). Arrival order: the morton order moves
+    // particles within cells after the merge, and runs the whole pass.
+    Scene mdbc = test::small_dam(0.146 / 8);
+    mdbc.fluids.front().velocity = {1.0, 0.0, 0.0};
+    mdbc.boundary_method = BoundaryMethod::mdbc;
+    mdbc.wall_slip = WallSlip::no_slip;
+    struct Case { const char* name; Scene scene; Interaction form; };
+    const Case cases[] = {{"sliding dam, fine", sliding_dam(0.146 / 8), Interaction::fine},
+                          {"sliding dam, lanes", sliding_dam(0.146 / 8), Interaction::lanes},
+                          {"mDBC, no-slip, fine", mdbc, Interaction::fine}};
+    for (const Case& c : cases) {
+        CAPTURE(std::string(c.name));
+        auto options = [&](std::size_t D, bool whole) {
+            Options o;
+            testing::Seams seams;
+            if (D > 1) seams.cut_schedule = test::sweeping_cuts(D);
+            seams.whole_force_pass = whole;
+            testing::set_seams(o, seams);
+            o.cell_order = CellOrder::arrival;
+            o.interaction = c.form;
+            return o;
+        };
+        auto sims = on_1_2_3(c.scene, [&](std::size_t D) { return options(D, false); });
+        const std::size_t overlapped = sims.size();
+        if (test::devices().size() >= 3) {  // and three devices with the whole pass after the merge
+            Options o = options(3, true);
+            o.devices = test::device_spec(3);
+            sims.push_back(std::make_unique<Simulation>(c.scene, o));
+        }
+        CHECK(first_difference(sims, 40) == -1);
+        for (std::size_t k = 0; k < sims.size(); ++k) {
+            std::size_t passes = 0;
+            for (const auto& share : sims[k]->shares()) passes += share.split_force_passes;
+            const std::string how = k >= overlapped ? " (whole pass)" : "";
+            MESSAGE(std::string(c.name) << ", " << sims[k]->shares().size() << " devices" << how << ": " << passes
+                                        << " force passes split around the halo");
+            if (k == 0 || k >= overlapped)
+                CHECK(passes == 0);  // one device has no halo; the seam turns the split off
+            else
+                CHECK(passes > 0);
+        }
+    }
+}
+
 TEST_CASE("Symplectic: bitwise identical on 1, 2 and 3 devices (two exchanges and force passes a step)") {
     Scene scene = sliding_dam(0.146 / 8);
     scene.physics.integrator = Integrator::symplectic;

@@ -243,6 +243,10 @@ TEST_CASE("the plan predicts each of two devices' peak") {
     o.balance = BalanceMode::off;
     check_prediction(test::small_dam(0.004), test::device_spec(2), o);
     check_prediction(test::small_dam(0.004), test::device_spec(2), o, 3, true);
+    // Arrival order: the force pass split around the halo, the edge sorts through arrays of their
+    // own (the interior's forces sit in the reorder scratch).
+    o.cell_order = CellOrder::arrival;
+    check_prediction(test::small_dam(0.004), test::device_spec(2), o, 3, true);
 }
 
 TEST_CASE("a scene that does not fit stops before any allocation, naming physics.dp") {

@@ -27,6 +27,9 @@ struct DeviceShare {
     double force_seconds = 0;   // the last step's force pass (several devices)
     std::size_t ghosts = 0;     // read-only copies of the neighbours' edge columns held now
     std::size_t received_bytes = 0;  // copied into this device from the others since the start
+    // Force passes whose interior ran while the arrivals from the other devices travelled (the
+    // halo overlapped with it: docs/multi_device.md), since the start.
+    std::size_t split_force_passes = 0;
     // The calibration before the first step (several devices, dynamic balance; 0 otherwise): the
     // force pass this device would need for the whole scene, fitted as fixed + per-unit cost.
     double calibrated_whole_scene_seconds = 0;

@@ -188,8 +188,13 @@ void CellPipeline::enqueue_edge_sort(ParticleStore& ps, const EdgeSort& e) {
         edge_keys_ = d.alloc(cap * sizeof(cl_uint), "edge sort keys");
         edge_vals_ = d.alloc(cap * sizeof(cl_uint), "edge sort values");
     }
-    // Each edge goes through the reorder scratch, four arrays side by side.
-    if (edge_scratch_bytes(m) > ps.scratch.bytes())
+    // Each edge goes through four arrays side by side: the reorder scratch, or, where the halo may
+    // be overlapped with the interior's forces (which sit in the scratch then), arrays of its own.
+    if (edges_apart_ && edge_arrays_.bytes() < edge_scratch_bytes(m)) {
+        edge_arrays_ = cl_rt::Buffer();
+        edge_arrays_ = d.alloc(edge_scratch_bytes(sizing::box_capacity(m)), "edge sort arrays");
+    }
+    if (!edges_apart_ && edge_scratch_bytes(m) > ps.scratch.bytes())
         throw Error("edge sort of " + std::to_string(m) + " particles does not fit the reorder scratch");
     const auto bound = [&](std::uint32_t k) { return std::clamp(k, e.keys.lo, e.keys.hi); };
     // Just above the last valid key below k: a column's keys do not fill its 2^shift_s codes (the
@@ -227,12 +232,17 @@ void CellPipeline::sort_edge(ParticleStore& ps, std::size_t first, std::size_t c
     set_args(edge_keys_k_, first, count, e.drop_first, e.drop_end, e.keys.lo, e.keys.hi, code_lo, code_hi, ps.pos,
              edge_keys_, edge_vals_);
     d.launch("edge.keys", edge_keys_k_, count, wg_);
-    sort_pairs(edge_sort_, edge_keys_, edge_vals_, count, ps, bits);
-    // The edge's entries of all four arrays in sorted order into scratch (one launch), then the
+    // Edges apart: through the sort's own buffers (of the edges' size), not the reorder scratch.
+    if (edges_apart_)
+        edge_sort_.sort(edge_keys_, edge_vals_, count, bits);
+    else
+        sort_pairs(edge_sort_, edge_keys_, edge_vals_, count, ps, bits);
+    // The edge's entries of all four arrays in sorted order into the edge arrays (one launch), then the
     // first `kept` back into place (one launch).
-    set_args(edge_gather_k_, count, edge_vals_, ps.pos, ps.velrho, ps.accel, ps.id, ps.scratch);
+    const cl_rt::Buffer& arrays = edges_apart_ ? edge_arrays_ : ps.scratch;
+    set_args(edge_gather_k_, count, edge_vals_, ps.pos, ps.velrho, ps.accel, ps.id, arrays);
     d.launch("edge.gather", edge_gather_k_, count, wg_);
-    set_args(edge_place_k_, count, first, kept, ps.scratch, ps.pos, ps.velrho, ps.accel, ps.id);
+    set_args(edge_place_k_, count, first, kept, arrays, ps.pos, ps.velrho, ps.accel, ps.id);
     d.launch("edge.place", edge_place_k_, kept, wg_);
 }
 
@@ -309,6 +319,23 @@ void CellPipeline::scan_cell_starts(ParticleStore& ps, std::size_t n) {
     set_args(flag_k_, n, ps.keys, ps.vals);
     device_.launch("cells.flag", flag_k_, n, wg_);
     scan_.exclusive(ps.vals, ps.vals, n);
+}
+
+void CellPipeline::enqueue_interior_count(ParticleStore& ps, std::size_t n, std::size_t hole,
+                                          const std::vector<std::uint32_t>& thresholds, cl_rt::EventSet& done) {
+    if (order_ != CellOrder::arrival)
+        throw Error("the interior's cell tables need the arrival order within cells (the morton order moves particles)");
+    if (!edges_apart_) throw Error("the interior's forces would sit in the reorder scratch the edge sort uses");
+    if (n == 0) return;
+    // Keys from pos.w for [hole, n) (cells.keys drops [0, hole) without reading it), then key 0 for
+    // the hole: one cell of column 0 at the front, below every key, which no interior cell's rows
+    // reach (they stay two columns clear of the old first column).
+    const cl_uint invalid = grid_.params().invalid_key;
+    set_args(keys_k_, n, hole, n, n, cl_uint{0}, invalid, cl_uint{0}, grid_.params(), ps.pos, ps.keys, ps.vals);
+    device_.launch("cells.interior_keys", keys_k_, n, wg_);
+    if (hole > 0) device_.fill(ps.keys, cl_uint{0}, hole, 0);
+    enqueue_count_cells(ps, n, done);
+    enqueue_locate(ps, n, thresholds, done);
 }
 
 std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {

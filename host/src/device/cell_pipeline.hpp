@@ -121,7 +121,11 @@ public:
     void enqueue_rekey(ParticleStore& store, std::size_t n);
     void enqueue_sort_with_arrivals(ParticleStore& store, std::size_t held, std::size_t left, std::size_t right,
                                     std::size_t keep_first, std::size_t keep_end, KeyRange keys);
-    // Bytes of the reorder scratch an edge sort of m particles uses (four arrays side by side).
+    // Edge sorts through buffers of their own (the edges' size), not the store's reorder scratch:
+    // where the interior's forces run while the arrivals travel (they sit in the scratch then).
+    void set_edges_apart(bool apart) { edges_apart_ = apart; }
+    bool edges_apart() const { return edges_apart_; }
+    // Bytes of the arrays an edge sort of m particles goes through (four side by side).
     static std::size_t edge_scratch_bytes(std::size_t m) { return m * ParticleArrays::kBytesPerParticle; }
 
     std::vector<std::size_t> locate(ParticleStore& store, std::size_t n, const std::vector<std::uint32_t>& thresholds);
@@ -135,6 +139,16 @@ public:
     // `done`; after the wait, finish_tables enqueues the rest.
     void enqueue_count_cells(ParticleStore& store, std::size_t n, cl_rt::EventSet& done);
     std::size_t finish_tables(ParticleStore& store, std::size_t n);
+    // Several devices, while the arrivals travel (the halo overlapped with the interior's forces):
+    // enqueue_count_cells over [0, n) where [0, hole) waits for the left arrivals and [hole, n)
+    // holds the kept particles in their final places, with the positions of `thresholds` (located()
+    // after the wait). finish_tables(store, n) then gives tables in which the cells of columns
+    // [first_old + 1, end_old - 1) hold their final particles (arrivals land only outside them), so
+    // the rows of cells in [first_old + 2, end_old - 2) are the ones the merged tables will have.
+    // Arrival order and edges apart only (throws otherwise: the morton order moves particles within
+    // cells, and an edge sort through the scratch would overwrite the interior's forces).
+    void enqueue_interior_count(ParticleStore& store, std::size_t n, std::size_t hole,
+                                const std::vector<std::uint32_t>& thresholds, cl_rt::EventSet& done);
     // The step ahead: the tables without the count coming back. Every launch over cells runs over
     // the tables' capacity; the count lands in cell_count() ([0]: what the tables hold, [1]: as
     // found); a count above the capacity sets HALT_CELLS in `halt` (kernels/step_clock.cl) and
@@ -208,6 +222,8 @@ private:
     cl::Kernel settle_k_, flag_range_k_, gather_range_k_, edge_keys_k_, edge_gather_k_, edge_place_k_, arrival_keys_k_;
     cl::Kernel drift_keys_k_, drift_histogram_k_;  // the latter built on first use
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;
+    cl_rt::Buffer edge_arrays_;  // edges apart: the edges' particles in sorted order, before they go back
+    bool edges_apart_ = false;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
     // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).

@@ -7,6 +7,7 @@
 #include "device/motion_table.hpp"
 #include "device/outlet_zones.hpp"
 
+#include "clsph/testing.hpp"
 #include "device/sizing.hpp"
 #include "probes/gauges.hpp"
 #include "scene/floating.hpp"
@@ -97,7 +98,27 @@ struct Context {
     std::uint32_t max_boundary_id;
     std::size_t motion_segments;  // of every moving solid and a row per floating body (0: none)
     std::size_t floating_bodies;
+    bool edges_apart;  // edge sorts through arrays of their own (edges_apart_of)
 };
+
+// Where a slab's force pass may be split around the halo (multi/slab_driver.cpp set_up: several
+// devices, no pass before the forces, no cluster lists, arrival order), its edge sorts go through
+// arrays of their own (cell_pipeline.cpp enqueue_edge_sort()). The order as SlabDriver resolves
+// `auto`: morton where every device runs lanes, the form `auto` gives CPUs.
+bool edges_apart_of(const Scene& scene, const std::vector<DeviceInfo>& devices, const Options& options, std::size_t D) {
+    if (D < 2 || (options.seams && options.seams->whole_force_pass)) return false;
+    if (scene.physics.density == DensityMode::summation || scene.physics.viscosity == Viscosity::laminar_sps) return false;
+    const Interaction form = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
+    if (form == Interaction::clusters) return false;
+    CellOrder order = options.cell_order != CellOrder::automatic ? options.cell_order : scene.run.cell_order;
+    if (order == CellOrder::automatic) {
+        bool all_lanes = !devices.empty();
+        for (const auto& d : devices)
+            all_lanes = all_lanes && (form == Interaction::lanes || (form == Interaction::automatic && d.is_cpu()));
+        order = all_lanes ? CellOrder::morton : CellOrder::arrival;
+    }
+    return order == CellOrder::arrival;
+}
 
 // Every buffer of slab d with stores of `cap` particles, an edge sort of `edge` and a cell sort of
 // `sorted`.
@@ -120,9 +141,10 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     // slab holds those outside the domain too.
     SortTemporaries sort, edge_sort;
     sort.use((cap + 1) * u32, D == 1 ? c.particles : sorted, t, cap * f4);
-    // The edge sort of several slabs: its own sort and buffers (cell_pipeline.cpp enqueue_edge_sort()).
+    // The edge sort of several slabs: its own sort and buffers (cell_pipeline.cpp enqueue_edge_sort()),
+    // its ping-pong in the reorder scratch unless the edges go apart (the interior's forces sit there).
     const std::size_t edge_cap = edge ? sz::box_capacity(edge) : 0;
-    if (edge) edge_sort.use(edge_cap * u32, edge, t, cap * f4);
+    if (edge) edge_sort.use(edge_cap * u32, edge, t, c.edges_apart ? 0 : cap * f4);
     add("radix sort keys (ping-pong)", sort.alt + edge_sort.alt);
     add("radix sort values (ping-pong)", sort.alt + edge_sort.alt);
     add("radix sort digit counts", sort.counts + edge_sort.counts);
@@ -188,6 +210,7 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
         if (edge) {
             add("edge sort keys", edge_cap * u32);
             add("edge sort values", edge_cap * u32);
+            if (c.edges_apart) add("edge sort arrays", edge_cap * sz::kParticleBytes);
         }
     }
     if (c.probe_points) {
@@ -254,7 +277,8 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     plan.particles = census.particles;
     plan.dp = scene.physics.dp;
     const std::size_t D = std::max<std::size_t>(devices.size(), 1);
-    const std::vector<Share> shares = split_shares(scene, census, D, options);
+    const bool apart = edges_apart_of(scene, devices, options, D);
+    const std::vector<Share> shares = split_shares(scene, census, D, options, apart);
     // The step ahead as Simulation decides it (multi/slab_driver.hpp can_step_ahead()).
     const bool ahead = !devices.empty() && scene.inlets.empty() && !scene::has_outlet_zones(scene) &&  // synchronous steps
                        sz::step_ahead(options.synchronous, options.steps_ahead, D, devices[0].fp64,
@@ -279,7 +303,8 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
                         for (const auto& m : scene::moving_solids(scene)) n += m.motion.segments.size();
                         return n + scene::floating_bodies(scene).size();
                     }(),
-                    scene::floating_bodies(scene).size()};
+                    scene::floating_bodies(scene).size(),
+                    apart};
     for (std::size_t d = 0; d < D; ++d) {
         const Share& s = shares[d];
         DeviceMemoryPlan x = buffers_of(c, s, d, s.capacity, s.edge, s.active);

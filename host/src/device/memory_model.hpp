@@ -32,7 +32,8 @@ struct Share {
 
 // The shares of `slabs` slabs (multi/slab_driver.cpp set_up(), multi/exchange.cpp).
 std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, std::size_t slabs,
-                                const Options& options);
+                                const Options& options,
+                                bool edges_apart);
 
 // The plan of `devices` (one entry per slab) for their shares.
 MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std::vector<DeviceInfo>& devices,

@@ -12,7 +12,7 @@
 namespace clsph::detail {
 
 std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, std::size_t slabs,
-                                const Options& options) {
+                                const Options& options, bool edges_apart) {
     const std::size_t D = std::max<std::size_t>(slabs, 1);
     const std::size_t columns = grid_of(scene).params().n_s;
     const auto& per_column = census.per_column;
@@ -127,10 +127,11 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
         // Each exchange (exchange.cpp plan(), send(), receive_and_merge()) holds what the store had
         // and the arrivals, keeping the sorted particles: the first (SlabDriver::start) the owned
         // particles, the next ones the ghosts too, dropped at the merge. On slabs of 4 columns or
-        // more it sorts only the edges where the reorder scratch holds them, deciding so on the
-        // capacity before the store grows: each edge alone, and only on a side with arrivals (the
-        // left: the arrivals and the kept particles of the first two columns; the right: those of
-        // the last two, the dropped and the arrivals).
+        // more it sorts only the edges where the reorder scratch holds them (or always, where the
+        // edges go through arrays of their own: `edges_apart`), deciding so on the capacity before
+        // the store grows: each edge alone, and only on a side with arrivals (the left: the
+        // arrivals and the kept particles of the first two columns; the right: those of the last
+        // two, the dropped and the arrivals).
         const std::size_t owned = in_columns(first, end);
         const std::size_t x = s.columns >= 4 && arrivals_left > 0 ? in_columns(first, first + 2) : 0;
         const std::size_t y = s.columns >= 4 && arrivals_right > 0 ? in_columns(end - 2, end) : 0;
@@ -143,7 +144,7 @@ std::vector<Share> split_shares(const Scene& scene, const MemoryCensus& census, 
             const std::size_t m_right = arrivals_right > 0 ? y + dropped + arrivals_right : 0;
             const std::size_t m = m_left + m_right;
             const bool edges = s.columns >= 4 && arrivals > 0 && kept > 0 && x + y < kept &&
-                               m * device::sizing::kParticleBytes <= s.capacity * device::sizing::kFloat4;
+                               (edges_apart || m * device::sizing::kParticleBytes <= s.capacity * device::sizing::kFloat4);
             at.sorted = first_one ? owned : s.active;
             at.tables = !first_one;
             at.inbox = !first_one || !edges;

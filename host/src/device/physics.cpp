@@ -153,19 +153,20 @@ cl_uint set_loop_args(cl::Kernel& k, std::size_t first, std::size_t last, const 
 }
 }  // namespace
 
+void Physics::launch_interaction(const char* name, cl::Kernel& k, const CellPipeline& cells, std::size_t count) {
+    if (form_ == Interaction::coarse)
+        device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
+    else if (form_ == Interaction::lanes)
+        device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
+    else
+        device_.launch(name, k, count, wg_);
+}
+
 void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out) {
     const std::size_t n = ps.ranges.owned;
     floating_summed_ = false;  // the bodies' sums of an earlier pass (the calibration's) are not this one's
     if (n == 0) return;
     const auto g = grid_.params();
-    auto launch = [&](const char* name, cl::Kernel& k, std::size_t count) {
-        if (form_ == Interaction::coarse)
-            device_.launch(name, k, cells.cells() * coarse_wg_, coarse_wg_);
-        else if (form_ == Interaction::lanes)
-            device_.launch(name, k, cells.cells(), 1);  // a work-item per cell, nothing to pad
-        else
-            device_.launch(name, k, count, wg_);
-    };
     const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
     // Summation densities of every particle held, ghosts included: the force pass reads those of
     // the inner halo column, whose neighbours the second halo column holds (SlabDriver::set_up). The
@@ -179,7 +180,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         density_k_.setArg(a, ps.velrho.get());
         density_k_.setArg(a + 1, ps.id.get());
         density_k_.setArg(a + 2, ps.scratch.get());  // free between reorders: new densities
-        launch("sph.density", density_k_, last - first);
+        launch_interaction("sph.density", density_k_, cells, last - first);
         commit_k_.setArg(0, static_cast<cl_uint>(first));
         commit_k_.setArg(1, static_cast<cl_uint>(last));
         commit_k_.setArg(2, ps.scratch.get());
@@ -187,8 +188,21 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         device_.launch("sph.commit_density", commit_k_, last - first, wg_);
     }
     if (sps_) sps_stress(ps, cells);  // with the step's final densities
-    const cl_uint a = set_loop_args(forces_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), ps, cells, g, sp_,
-                                    per_cell, clusters_.get());
+    launch_forces(ps, cells, out, ps.ranges.first_owned(), ps.ranges.end_owned());
+    forces_finish(ps, cells, out);
+}
+
+void Physics::forces_part(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
+                          std::size_t last) {
+    if (!splittable()) throw Error("the force pass cannot be split with this scene's passes before it");
+    floating_summed_ = false;
+    if (last > first) launch_forces(ps, cells, out, first, last);
+}
+
+void Physics::launch_forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
+                            std::size_t last) {
+    const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
+    const cl_uint a = set_loop_args(forces_k_, first, last, ps, cells, grid_.params(), sp_, per_cell, clusters_.get());
     forces_k_.setArg(a, ps.velrho.get());
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());
@@ -199,7 +213,11 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
         if (&out == &ps.accel) throw Error("no-slip walls: the force pass cannot write into the accelerations it reads");
         forces_k_.setArg(a + (sps_ ? 4 : 3), ps.accel.get());
     }
-    launch("sph.forces", forces_k_, n);
+    launch_interaction("sph.forces", forces_k_, cells, last - first);
+}
+
+void Physics::forces_finish(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out) {
+    if (ps.ranges.owned == 0) return;
     // Floating bodies: the fluid's force on them from the boundary densities the fluid has just
     // felt, before the mDBC pass replaces those with the next step's.
     if (floating_bodies_ > 0) enqueue_floating(ps, cells);

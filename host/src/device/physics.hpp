@@ -66,6 +66,15 @@ public:
     // ps.accel, and the mDBC pass writes the next into `out` (kernels/wall_velocity.h): `out`
     // may not be ps.accel then.
     void forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
+    // forces() in parts, for the halo overlapped with the interior (several devices): the force
+    // launch alone over particles [first, last), then, once every owned particle had its part,
+    // what forces() runs after that launch (floating bodies, mDBC). Only where splittable(): no
+    // pass before the force launch (summation density, SPS stress) and no cluster lists, which
+    // need every owned particle's tables at once.
+    bool splittable() const { return !summation_ && !sps_ && !clusters_; }
+    void forces_part(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
+                     std::size_t last);
+    void forces_finish(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out);
     // mDBC: each boundary particle's offset to its ghost node, by id (scene/ghost_nodes.hpp), at
     // rest; with a motion (set_motion first) the offsets of moving solids turn with them before
     // each mDBC pass (kernels/motion.cl, turn_ghost_nodes).
@@ -148,6 +157,10 @@ public:
                                             const std::vector<std::array<double, 3>>& points);
 
 private:
+    // An interaction kernel's launch: a work-item per particle of `count`, per cell, or a work-group per cell.
+    void launch_interaction(const char* name, cl::Kernel& k, const CellPipeline& cells, std::size_t count);
+    void launch_forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
+                       std::size_t last);
     cl_rt::Device& device_;
     const Grid& grid_;
     SphParams sp_{};

@@ -203,10 +203,19 @@ Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_le
     // columns (CellPipeline::enqueue_edge_sort).
     p.left_top = partition_.column_key(s.columns_first + 1);
     p.right_bottom = partition_.column_key(s.columns_end - 1);
-    // The edges go through the reorder scratch, four arrays side by side.
+    // The edges go through the reorder scratch, four arrays side by side, or arrays of their own.
     const std::size_t m = p.left + (p.end - p.right);
-    if (p.left < p.right && device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float))
+    if (p.left < p.right && (s.cells->edges_apart() || device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float)))
         p.merge = Merge::edges;
+    // The owned columns two or more inside the old ones: their rows reach only columns
+    // [first_old + 1, end_old - 1), which no arrival enters, and whose kept particles the edge
+    // sorts leave in place. Their forces need no arrival (Interior).
+    const std::size_t lo = std::max(s.first_col, s.columns_first + 2), hi = std::min(s.end_col, s.columns_end - 2);
+    if (p.merge == Merge::edges && interior_.allowed && interior_.allowed(e) && lo < hi) {
+        p.overlap = true;
+        p.interior_lo = partition_.column_key(lo);
+        p.interior_hi = partition_.column_key(hi);
+    }
     return p;
 }
 
@@ -224,6 +233,10 @@ void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& p
         if (p.merge == Merge::edges || p.merge == Merge::kept_only) {
             s.store->reserve(p.from_left + p.held + p.from_right);  // keeps the sorted keys
             s.cells->enqueue_reorder(*s.store, p.held, p.from_left);
+            // The kept particles' tables and the interior's bounds, read while the blocks travel.
+            if (p.overlap)
+                s.cells->enqueue_interior_count(*s.store, p.from_left + p.kept, p.from_left,
+                                                {p.interior_lo, p.interior_hi}, sent);
             s.device->flush();
         }
     });
@@ -235,6 +248,13 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     auto& ps = *s.store;
     auto& dev = *s.device;
     const std::size_t n = p.from_left + p.from_right;
+    if (p.overlap) {  // the interior's forces first: they run while the arrivals are written
+        const auto& at = s.cells->located();
+        const std::size_t first = at[0], last = at[1];
+        s.cells->finish_tables(ps, p.from_left + p.kept);
+        if (last > first) interior_.run(e, first, last);
+        dev.flush();
+    }
     if (s.inbox.capacity() < n || !s.inbox.id) s.inbox.allocate(dev, device::sizing::box_capacity(n), "exchange inbox");
     // Arrivals into the inbox on the transfer queue: left senders first, then right ones. (On its
     // own host thread: a write from memory pinned in another device's context may hold the thread

@@ -65,6 +65,16 @@ public:
     // cell lists them last on any device count.
     // `before` (the step's drift), if given, runs on each device's thread before its settle.
     std::size_t run(const PerDevice& then, const Particles* created = nullptr, const PerDevice& before = {});
+    // The halo overlapped with the interior's forces. Where allowed(d) and a device's merge sorts
+    // only its edges, the tables of what it kept are built while its arrivals travel, and
+    // run(d, first, last) enqueues the force pass of its owned particles [first, last) that lie two
+    // columns or more inside its old columns (their rows hold no arrival) before the arrivals are
+    // waited for; then(d) follows as always, after the merge and the whole tables.
+    struct Interior {
+        std::function<bool(std::size_t)> allowed;
+        std::function<void(std::size_t, std::size_t, std::size_t)> run;
+    };
+    void overlap_interior(Interior interior) { interior_ = std::move(interior); }
 
 private:
     struct Block { std::size_t d, e, index, base; };  // sender, receiver, gather block, outbox offset
@@ -73,6 +83,8 @@ private:
         Merge merge = Merge::all;
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
         std::uint32_t left_top = 0xffffffffu, right_bottom = 0;  // the edges' bounds (device::EdgeSort)
+        bool overlap = false;  // the interior's forces while the arrivals travel (Interior)
+        std::uint32_t interior_lo = 0, interior_hi = 0;  // their column keys
     };
     void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted, const PerDevice& before = {});
     Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
@@ -99,6 +111,7 @@ private:
     std::vector<std::vector<std::size_t>> created_for_;  // per slab: indices into *created_
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<Link>> links_;
     RankMap ranks_;
+    Interior interior_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteSendLink>> remote_send_;
     std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<RemoteReceiveLink>> remote_receive_;
 };

@@ -8,25 +8,32 @@
 #include "cl/device.hpp"
 
 #include <memory>
+#include <vector>
 
 namespace clsph::multi {
 
 class ForceTimer {
 public:
     explicit ForceTimer(cl_rt::Device& device);
-    void begin();  // enqueue before the force pass
-    void end();    // and after it
-    // The pass between the last begin() and end(), once the queue has run past end() (waits for
-    // the callbacks where host clocks are used); 0 when nothing was timed.
+    // Enqueue before the force pass: a new pass (what was timed before and not read is dropped, as
+    // the first pass of a Symplectic step), or with `more` a further part of the same pass (a pass
+    // split around the halo: the interior, then the rest).
+    void begin(bool more = false);
+    void end();  // and after it (or the part)
+    // The pass: the sum of its parts, once the queue has run past the last end() (waits for the
+    // callbacks where host clocks are used); 0 when nothing was timed.
     double seconds();
 
     struct Stamp;  // one marker's completion time, filled by its callback
 
 private:
+    struct Part {
+        cl::Event begin, end;
+        std::shared_ptr<Stamp> begin_stamp, end_stamp;
+    };
     cl_rt::Device& device_;
     bool host_clocks_;
-    cl::Event begin_, end_;
-    std::shared_ptr<Stamp> begin_stamp_, end_stamp_;
+    std::vector<Part> parts_;
 };
 
 }  // namespace clsph::multi

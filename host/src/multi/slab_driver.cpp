@@ -185,6 +185,17 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     exchange_ = std::make_unique<Exchange>(partition_, slabs_, [this](const PerDevice& w) { for_each_device(w); },
                                            options_.wait, phases_, options_.seams.wide_exchange, ranks_);
     removed_at_upload_ = exchange_->sort_uploaded();
+    // Several devices: the interior's forces while the arrivals travel, where the force pass can be
+    // split (no pass before it, no cluster lists) and the tables of the kept particles stay valid
+    // (arrival order: the morton order moves particles within cells).
+    if (D > 1 && !options_.seams.whole_force_pass) {
+        for (std::size_t d = 0; d < D; ++d)
+            if (here(d) && slabs_[d].physics->splittable() && slabs_[d].cells->order() == CellOrder::arrival)
+                slabs_[d].cells->set_edges_apart(true);  // the interior's forces sit in the scratch
+        exchange_->overlap_interior(
+            {[this](std::size_t d) { return slabs_[d].cells->edges_apart(); },
+             [this](std::size_t d, std::size_t lo, std::size_t hi) { interior_forces(d, lo, hi); }});
+    }
     figures_.resize(D);
     for (std::size_t d = 0; d < D; ++d)
         if (here(d)) figures_[d].global_memory = static_cast<std::size_t>(slabs_[d].device->info().global_memory);
@@ -316,13 +327,40 @@ void SlabDriver::rebalance() {
     partition_.set_cuts(slabs_, decision.cuts);
 }
 
+int SlabDriver::force_repeats(std::size_t d) const {
+    const auto& slowdown = options_.seams.slowdown;
+    return d < slowdown.size() ? std::max(1, slowdown[d]) : 1;
+}
+
+void SlabDriver::interior_forces(std::size_t d, std::size_t first, std::size_t last) {
+    Slab& s = slabs_[d];
+    s.force_timer->begin();  // a new pass; forces(d) adds the rest
+    for (int k = 0; k < force_repeats(d); ++k) s.physics->forces_part(*s.store, *s.cells, s.store->scratch, first, last);
+    s.force_timer->end();
+    s.interior_first = first;
+    s.interior_end = last;
+}
+
 void SlabDriver::forces(std::size_t d) {
     Slab& s = slabs_[d];
-    const auto& slowdown = options_.seams.slowdown;
-    const int repeat = d < slowdown.size() ? std::max(1, slowdown[d]) : 1;
+    auto& ps = *s.store;
     const bool timed = slabs_.size() > 1;  // only the balancer reads the time
-    if (timed) s.force_timer->begin();
-    for (int k = 0; k < repeat; ++k) s.physics->forces(*s.store, *s.cells, s.store->scratch);
+    // The interior ran while the arrivals travelled (interior_forces): the owned particles either side.
+    const bool split = s.interior_end > s.interior_first;
+    if (timed) s.force_timer->begin(split);
+    for (int k = 0; k < force_repeats(d); ++k) {
+        if (!split) {
+            s.physics->forces(ps, *s.cells, ps.scratch);
+            continue;
+        }
+        s.physics->forces_part(ps, *s.cells, ps.scratch, ps.ranges.first_owned(), s.interior_first);
+        s.physics->forces_part(ps, *s.cells, ps.scratch, s.interior_end, ps.ranges.end_owned());
+    }
+    if (split) {
+        s.physics->forces_finish(ps, *s.cells, ps.scratch);
+        ++s.split_passes;
+        s.interior_first = s.interior_end = 0;
+    }
     if (timed) s.force_timer->end();
     if (s.inlets) s.inlets->impose(*s.store, inlet_speeds_, true);  // inlet buffers: their velocity, before the kick
     if (s.outlets) s.outlets->hold(*s.store, outlet_time_);          // outlet zones: their density

@@ -150,6 +150,10 @@ private:
     StepOutcome reductions(cl_rt::EventSet& kicked);
     // With `drift`: the step's first kick and drift in the cell pass's first launch (fused).
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done, bool drift);
+    // The force pass of device d (forces: on its thread after the exchange; interior_forces: the
+    // part the exchange runs while the arrivals travel), each repeated as the slowdown seam says.
+    int force_repeats(std::size_t d) const;
+    void interior_forces(std::size_t d, std::size_t first, std::size_t last);
     void read_force_times();
     // Floating bodies: the poses after the first half of a step (empty without bodies); the sums of
     // every device and rank; the corrector's pose put on every device; the forces taken and kicked.

@@ -19,7 +19,7 @@ std::vector<DeviceShare> Simulation::shares() const {
         auto& s = slabs[d];
         out.push_back({s.device->label(), s.store->ranges.owned, s.first_col, s.end_col, s.force_seconds,
                        s.store->ranges.ghosts_before + s.store->ranges.ghosts_after, s.received_bytes,
-                       s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
+                       s.split_passes, s.calibration.fixed + s.calibration.per_unit * s.calibration.work_total, s.calibration.fixed,
                        s.physics->interaction(), driver.cell_order()});
     }
     return out;

@@ -36,6 +36,9 @@ struct Seams {
     // stage, the scans' tile sums scanned on their own): for the tests that the fused step is
     // bitwise the same.
     bool unfused = false;
+    // Every force pass waits for the arrivals, as before the halo was overlapped with the interior
+    // (docs/multi_device.md): for the tests that both give the same bits, and for measuring it.
+    bool whole_force_pass = false;
     // Cuts to force before each step (devices + 1 column indices), instead of the balancer's.
     std::function<std::vector<std::size_t>(std::uint64_t step, std::size_t columns)> cut_schedule;
 };
