@@ -224,17 +224,20 @@ TEST_CASE("the halo overlapped with the interior's forces: bitwise the whole pas
     // after the merge. The merge's sorts must leave those forces alone (the edge sort once
     // borrowed the scratch they sit in: 258 particles differed on three devices by step 20), and
     // their tables must list each cell as the merged ones do. Cuts sweep, so slabs grow, shrink
-    // and move by two columns a step; each form, and mDBC with no-slip walls (the pass after the
-    // forces, and forces that read the walls' velocities). Arrival order: the morton order moves
+    // and move by two columns a step; each form, mDBC with no-slip walls (the pass after the
+    // forces, and forces that read the walls' velocities) and Symplectic (two split passes a step). Arrival order: the morton order moves
     // particles within cells after the merge, and runs the whole pass.
     Scene mdbc = test::small_dam(0.146 / 8);
     mdbc.fluids.front().velocity = {1.0, 0.0, 0.0};
     mdbc.boundary_method = BoundaryMethod::mdbc;
     mdbc.wall_slip = WallSlip::no_slip;
+    Scene symplectic = sliding_dam(0.146 / 8);
+    symplectic.physics.integrator = Integrator::symplectic;  // two exchanges and split passes a step
     struct Case { const char* name; Scene scene; Interaction form; };
     const Case cases[] = {{"sliding dam, fine", sliding_dam(0.146 / 8), Interaction::fine},
                           {"sliding dam, lanes", sliding_dam(0.146 / 8), Interaction::lanes},
-                          {"mDBC, no-slip, fine", mdbc, Interaction::fine}};
+                          {"mDBC, no-slip, fine", mdbc, Interaction::fine},
+                          {"Symplectic, fine", symplectic, Interaction::fine}};
     for (const Case& c : cases) {
         CAPTURE(std::string(c.name));
         auto options = [&](std::size_t D, bool whole) {
