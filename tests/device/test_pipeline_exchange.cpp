@@ -177,3 +177,90 @@ TEST_CASE("exchange with overlap: arrivals around a sorted middle, edges sorted 
     }
 }
 }
+
+TEST_SUITE("pipeline") {
+TEST_CASE("the interior's tables, built while the arrivals travel, give its cells the merged tables' rows") {
+    // The halo overlapped with the interior (multi/exchange.cpp, docs/multi_device.md): the kept
+    // particles sorted at an offset, the room below them still waiting for the left arrivals
+    // (poisoned here), tables over both with key 0 for the room. Every particle of the interior
+    // columns (two inside the old slab [5, 25)) must get the cell and the rows the tables of the
+    // merged particles give it, and the interior's bounds must be where the merged particles have them.
+    const Box box{{0.0, 0.0, 0.0}, {3.0, 1.0, 1.0}};
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        auto gen = test::rng(137);
+        Grid grid(box, 0.1);
+        const GridParams g = grid.params();
+        REQUIRE(grid.axis(0) == 0);
+        auto column_key = [&](std::size_t c) { return static_cast<std::uint32_t>(c) << g.shift_s; };
+        auto in_columns = [&](std::size_t n, double c0, double c1) {
+            return random_points(gen, n, Box{{c0 * 0.1, 0.0, 0.0}, {c1 * 0.1, 1.0, 1.0}});
+        };
+        // Kept particles in columns [4, 26), arrivals from the left below column 6 and from the
+        // right at 24 and above; the interior [7, 23).
+        const auto kept_x = in_columns(2000, 4, 26), left_x = in_columns(150, 4, 6), right_x = in_columns(140, 24, 26);
+        const std::uint32_t lo = column_key(7), hi = column_key(23);
+        const std::size_t S = left_x.size(), n_kept = kept_x.size();
+        const KeyRange all{0, g.invalid_key};
+
+        // The merged particles, sorted as one device would: the reference tables.
+        std::vector<std::array<double, 3>> merged = left_x;
+        merged.insert(merged.end(), kept_x.begin(), kept_x.end());
+        merged.insert(merged.end(), right_x.begin(), right_x.end());
+        ParticleStore ref(*d, grid, merged.size() + 16);
+        ref.upload(make_particles(merged));
+        CellPipeline cref(*d, grid);
+        cref.enqueue_sort(ref, SortSelection{merged.size(), 0, merged.size(), merged.size(), all, true});
+        const std::size_t k_ref = cref.build_tables(ref, merged.size());
+        const std::vector<std::size_t> at_ref = cref.locate(ref, merged.size(), {lo, hi});
+
+        // The kept particles alone, sorted into [S, S + n_kept), the room below poisoned.
+        ParticleStore ps(*d, grid, merged.size() + 16);
+        ps.upload(make_particles(kept_x));
+        CellPipeline cp(*d, grid);
+        cp.set_edges_apart(true);
+        cp.enqueue_sort_keys(ps, SortSelection{n_kept, 0, n_kept, n_kept, all, true});
+        ps.reserve(merged.size());
+        cp.enqueue_reorder(ps, n_kept, S);
+        d->fill(ps.pos, kPoison, 4 * S);
+        d->fill(ps.vals, kPoison, ps.capacity());
+        cl_rt::EventSet done;
+        cp.enqueue_interior_count(ps, S + n_kept, S, {lo, hi}, done);
+        done.wait("the interior's count");
+        const std::size_t first = cp.located()[0], last = cp.located()[1];
+        const std::size_t k = cp.finish_tables(ps, S + n_kept);
+        CAPTURE(k);
+        CAPTURE(k_ref);
+        CHECK(first == at_ref[0]);
+        CHECK(last == at_ref[1]);
+        REQUIRE(last > first);
+
+        // Per interior particle: its key, its cell's key and every row against the reference.
+        const std::size_t rows = grid.rows(), n = merged.size();
+        std::vector<std::uint32_t> keys(n), keys_ref(n), cell(n), cell_ref(n), ck(k), ck_ref(k_ref);
+        std::vector<std::uint32_t> rg(2 * rows * k), rg_ref(2 * rows * k_ref);
+        d->read(ps.keys, keys.data(), S + n_kept);
+        d->read(ref.keys, keys_ref.data(), n);
+        d->read(ps.vals, cell.data(), S + n_kept);
+        d->read(ref.vals, cell_ref.data(), n);
+        d->read(cp.cell_key(), ck.data(), k);
+        d->read(cref.cell_key(), ck_ref.data(), k_ref);
+        d->read(cp.ranges(), rg.data(), rg.size());
+        d->read(cref.ranges(), rg_ref.data(), rg_ref.size());
+        std::size_t wrong_key = 0, wrong_cell = 0, wrong_rows = 0;
+        for (std::size_t i = first; i < last; ++i) {
+            wrong_key += keys[i] != keys_ref[i];
+            const std::uint32_t c = cell[i], c_ref = cell_ref[i];
+            if (c >= k || ck[c] != ck_ref[c_ref]) {
+                ++wrong_cell;
+                continue;
+            }
+            for (std::size_t r = 0; r < 2 * rows; ++r) wrong_rows += rg[2 * rows * c + r] != rg_ref[2 * rows * c_ref + r];
+        }
+        INFO("interior particles [" << first << ", " << last << ") of " << n << "; " << k << " cells, " << k_ref << " merged");
+        CHECK(wrong_key == 0);
+        CHECK(wrong_cell == 0);
+        CHECK(wrong_rows == 0);
+    }
+}
+}

@@ -328,8 +328,9 @@ void CellPipeline::enqueue_interior_count(ParticleStore& ps, std::size_t n, std:
     if (!edges_apart_) throw Error("the interior's forces would sit in the reorder scratch the edge sort uses");
     if (n == 0) return;
     // Keys from pos.w for [hole, n) (cells.keys drops [0, hole) without reading it), then key 0 for
-    // the hole: one cell of column 0 at the front, below every key, which no interior cell's rows
-    // reach (they stay two columns clear of the old first column).
+    // the hole, so that the keys stay sorted for the tables' and locate's binary searches: one cell
+    // of column 0 at the front, which no interior cell's rows reach (they stay two columns clear of
+    // the old first column).
     const cl_uint invalid = grid_.params().invalid_key;
     set_args(keys_k_, n, hole, n, n, cl_uint{0}, invalid, cl_uint{0}, grid_.params(), ps.pos, ps.keys, ps.vals);
     device_.launch("cells.interior_keys", keys_k_, n, wg_);
