@@ -130,7 +130,9 @@ bool bodies_agree(const std::vector<BodySample>& mine) {
 // Floating bodies: their states the same on every rank and as in one process, in the checkpoint
 // too, and after the restart.
 // With `same_cuts` (the cuts forced alike), their checkpoints must be the same too, array for array.
-void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust, bool same_cuts = false) {
+// `split`, if given, gets this rank's force passes split around the halo.
+void compare(const Scene& scene, int steps, const std::function<void(Options&)>& adjust, bool same_cuts = false,
+             std::size_t* split = nullptr) {
     const int rank = rank_of(*ranks);
     Options o;
     adjust(o);
@@ -139,6 +141,7 @@ void compare(const Scene& scene, int steps, const std::function<void(Options&)>&
     for (int i = 0; i < steps; ++i) across.step();
     // One slab here, the other on the other rank, and particles came across the rank boundary.
     const auto shares = across.shares();
+    if (split) *split = shares.empty() ? 0 : shares[0].split_force_passes;
     REQUIRE(shares.size() == 1);
     CHECK(shares[0].received_bytes > 0);
     CHECK(shares[0].particles < across.info().particles);
@@ -217,6 +220,23 @@ TEST_CASE("migration across the rank boundary: cuts forced to move every step, n
         seams.cut_schedule = test::sweeping_cuts(static_cast<std::size_t>(ranks_in(*ranks)));
         testing::set_seams(o, seams);
     }, true);
+}
+
+TEST_CASE("the halo overlapped with the interior across the rank boundary: bitwise the run in one process") {
+    // Arrival order and the fine form: each rank's force pass runs its interior while the
+    // particles from the other rank travel (docs/multi_device.md); cuts forced to move every step.
+    Scene s = test::small_dam(0.146 / 8);
+    s.fluids.front().velocity = {2.0, 0.0, 0.0};
+    std::size_t split = 0;
+    compare(s, 60, [](Options& o) {
+        testing::Seams seams;
+        seams.cut_schedule = test::sweeping_cuts(static_cast<std::size_t>(ranks_in(*ranks)));
+        testing::set_seams(o, seams);
+        o.cell_order = CellOrder::arrival;
+        o.interaction = Interaction::fine;
+    }, true, &split);
+    MESSAGE("force passes split around the halo on this rank: " << split);
+    CHECK(split > 0);
 }
 
 TEST_CASE("a moving solid across the rank boundary: bitwise the run in one process, checkpoint and restart too") {
