@@ -44,14 +44,23 @@ __kernel void cell_keys(const uint n, const uint keep_first, const uint keep_end
 // cells (new key in pos.w, nothing sorted). counters[0] counts particles that left the domain,
 // counters[1] those that moved more than one column (the exchange then cannot trust that a column
 // holds only particles from its old neighbours, and sorts first), counters[2] those now in
-// [key_lo, key_hi) (the columns this device keeps).
-__kernel void settle_owned(const uint first, const uint end, const uint key_lo, const uint key_hi, const GridParams g,
-                           __global float4* pos, __global uint* counters) {
-    __local uint local_counts[3];
-    begin_counts(local_counts);
+// [key_lo, key_hi) (the columns this device keeps), counters[3] and [4] those of them with keys
+// below split_lo and below split_hi (the interior whose forces run while the arrivals travel
+// starts and ends there among the kept particles sorted: multi/exchange.cpp; 0, 0: none).
+__kernel void settle_owned(const uint first, const uint end, const uint key_lo, const uint key_hi,
+                           const uint split_lo, const uint split_hi, const GridParams g, __global float4* pos,
+                           __global uint* counters) {
+    __local uint local_counts[5];
+    begin_counts(local_counts, 5u);
     const uint i = first + (uint)get_global_id(0);
-    if (i < end) (void)settle_particle(i, key_lo, key_hi, g, pos, local_counts);
-    end_counts(local_counts, counters);
+    if (i < end) {
+        const uint key = settle_particle(i, key_lo, key_hi, g, pos, local_counts);
+        if (key >= key_lo && key < key_hi && key != g.invalid_key) {
+            if (key < split_lo) atomic_inc(&local_counts[3]);
+            if (key < split_hi) atomic_inc(&local_counts[4]);
+        }
+    }
+    end_counts(local_counts, counters, 5u);
 }
 
 // The step ahead on one device, three launches in one (issue 30): drift_settle_key (settle.h) for
@@ -63,14 +72,14 @@ __kernel void drift_settle_keys(const uint n, const uint first, const uint end, 
                                 __global const uint* ids, __global const uint* halt, __global uint* counters,
                                 __global uint* keys, __global uint* vals) {
     __local uint local_counts[3];
-    begin_counts(local_counts);
+    begin_counts(local_counts, 3u);
     const uint i = get_global_id(0);
     if (i < n) {
         keys[i] = drift_settle_key(i, first, end, key_lo, key_hi, g, dt_f[0], rho0, pos, velrho, accel, ids, halt,
                                    local_counts);
         vals[i] = i;
     }
-    end_counts(local_counts, counters);
+    end_counts(local_counts, counters, 3u);
 }
 
 // flags[i - first] = 1 for particles of [first, end) whose key lies in [key_lo, key_hi).
@@ -229,7 +238,10 @@ __kernel void scatter_cells(const uint n, const uint cap, __global const uint* k
 // holding `cap` cells (every launch over cells runs over all of them). The count K = scan[n] goes to
 // count[0] (at most cap: what the tables hold) and count[1] (as found); cells K+1..cap start at n,
 // so that a cell beyond K is empty to every loop. K > cap halts the step (step_clock.cl): the host
-// grows the tables and redoes it.
+// grows the tables and redoes it. Tables that overflowed stay safe to read, for a pass that runs
+// before anyone looks at the flag (the interior's forces of the halo overlap, whose results are
+// then dropped): the last cell they hold ends at n, and a particle of a cell beyond them is given
+// that last cell, so every range and index stays inside the arrays.
 __kernel void tables_bounded(const uint n, const uint cap, __global const uint* keys, __global uint* scan,
                              __global uint* cell_key, __global uint* cell_start, __global uint* count,
                              __global uint* halt) {
@@ -241,7 +253,11 @@ __kernel void tables_bounded(const uint n, const uint cap, __global const uint* 
         if (k > cap) atomic_or(halt, 4u);
     }
     if (i > k && i <= cap) cell_start[i] = n;
-    if (i < n) scatter_cell(i, n, cap, k, keys, scan, cell_key, cell_start);
+    if (i == cap && k > cap) cell_start[cap] = n;
+    if (i < n) {
+        scatter_cell(i, n, cap, k, keys, scan, cell_key, cell_start);
+        if (k > cap && scan[i] >= cap) scan[i] = cap - 1u;
+    }
 }
 
 // ranges[c * ROWS + r] = [begin, end) of the particles in neighbour row r of cell c (grid.h: the

@@ -27,7 +27,7 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void drift_keys_histogr
     const uint grp = get_group_id(0);
     const uint radix = 1u << bits;
     for (uint d = lid; d < radix; d += WG) hist[d] = 0;
-    begin_counts(local_counts);  // its barrier covers hist too
+    begin_counts(local_counts, 3u);  // its barrier covers hist too
     const uint base = grp * TILE;
     const uint count = min((uint)TILE, n - base);
     const float dt = dt_f[0];
@@ -51,5 +51,5 @@ __kernel __attribute__((reqd_work_group_size(WG, 1, 1))) void drift_keys_histogr
     count_digits(key, count, 0u, radix - 1u, hist);
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint d = lid; d < radix; d += WG) counts[d * groups + grp] = hist[d];
-    end_counts(local_counts, counters);
+    end_counts(local_counts, counters, 3u);
 }

@@ -321,22 +321,25 @@ void CellPipeline::scan_cell_starts(ParticleStore& ps, std::size_t n) {
     scan_.exclusive(ps.vals, ps.vals, n);
 }
 
-void CellPipeline::enqueue_interior_count(ParticleStore& ps, std::size_t n, std::size_t hole,
-                                          const std::vector<std::uint32_t>& thresholds, cl_rt::EventSet& done) {
+void CellPipeline::enqueue_interior_tables(ParticleStore& ps, std::size_t n, std::size_t hole) {
     if (order_ != CellOrder::arrival)
         throw Error("the interior's cell tables need the arrival order within cells (the morton order moves particles)");
     if (!edges_apart_) throw Error("the interior's forces would sit in the reorder scratch the edge sort uses");
+    interior_capacity_ = 0;
     if (n == 0) return;
     // Keys from pos.w for [hole, n) (cells.keys drops [0, hole) without reading it), then key 0 for
-    // the hole, so that the keys stay sorted for the tables' and locate's binary searches: one cell
-    // of column 0 at the front, which no interior cell's rows reach (they stay two columns clear of
-    // the old first column).
+    // the hole, so that the keys stay sorted for the tables' binary searches: one cell of column 0
+    // at the front, which no interior cell's rows reach (they stay two columns clear of the old
+    // first column).
     const cl_uint invalid = grid_.params().invalid_key;
     set_args(keys_k_, n, hole, n, n, cl_uint{0}, invalid, cl_uint{0}, grid_.params(), ps.pos, ps.keys, ps.vals);
     device_.launch("cells.interior_keys", keys_k_, n, wg_);
     if (hole > 0) device_.fill(ps.keys, cl_uint{0}, hole, 0);
-    enqueue_count_cells(ps, n, done);
-    enqueue_locate(ps, n, thresholds, done);
+    // Bounded (no count comes back): a count above the capacity sets a flag no kernel reads; the
+    // caller compares the merged count with interior_capacity() instead.
+    if (!interior_halt_) interior_halt_ = device_.alloc(sizeof(cl_uint), "interior halt flag");
+    enqueue_tables_bounded(ps, n, interior_halt_);
+    interior_capacity_ = cell_capacity_;
 }
 
 std::size_t CellPipeline::finish_tables(ParticleStore& ps, std::size_t n) {
@@ -367,37 +370,37 @@ void CellPipeline::enqueue_tables_bounded(ParticleStore& ps, std::size_t n, cons
     counted_on_device_ = true;
 }
 
-void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::EventSet& done) {
+void CellPipeline::enqueue_settle(ParticleStore& ps, KeyRange keep, cl_rt::EventSet& done, KeyRange split) {
     auto& d = device_;
-    counters_host_.resize(d, 3);
-    std::fill(counters_host_.data(), counters_host_.data() + 3, 0u);
+    counters_host_.resize(d, sizing::kSettleCounters);
+    std::fill(counters_host_.data(), counters_host_.data() + sizing::kSettleCounters, 0u);
     if (ps.ranges.owned == 0) return;  // an idle device: nothing to settle, no round trip
-    if (!counters_) counters_ = d.alloc(3 * sizeof(cl_uint), "exchange counters");
-    d.fill(counters_, cl_uint{0}, 3);
-    set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(), ps.pos,
-             counters_);
+    ensure_counters();
+    d.fill(counters_, cl_uint{0}, sizing::kSettleCounters);
+    set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, split.lo, split.hi,
+             grid_.params(), ps.pos, counters_);
     d.launch("cells.settle", settle_k_, ps.ranges.owned, wg_);
-    d.read_async(counters_, counters_host_.data(), 3 * sizeof(cl_uint), 0, done);
+    d.read_async(counters_, counters_host_.data(), sizing::kSettleCounters * sizeof(cl_uint), 0, done);
 }
 
 void CellPipeline::ensure_counters() {
     if (counters_) return;
-    counters_ = device_.alloc(3 * sizeof(cl_uint), "exchange counters");
-    device_.fill(counters_, cl_uint{0}, 3);
+    counters_ = device_.alloc(sizing::kSettleCounters * sizeof(cl_uint), "exchange counters");
+    device_.fill(counters_, cl_uint{0}, sizing::kSettleCounters);
 }
 
 void CellPipeline::enqueue_settle_on_device(ParticleStore& ps, KeyRange keep) {
     auto& d = device_;
     ensure_counters();
     if (ps.ranges.owned == 0) return;
-    set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, grid_.params(), ps.pos,
-             counters_);
+    set_args(settle_k_, ps.ranges.first_owned(), ps.ranges.end_owned(), keep.lo, keep.hi, cl_uint{0}, cl_uint{0},
+             grid_.params(), ps.pos, counters_);
     d.launch("cells.settle", settle_k_, ps.ranges.owned, wg_);
 }
 
 Settled CellPipeline::settled() const {
-    if (counters_host_.size() < 3) return {};
-    return {counters_host_[0], counters_host_[1], counters_host_[2]};
+    if (counters_host_.size() < sizing::kSettleCounters) return {};
+    return {counters_host_[0], counters_host_[1], counters_host_[2], counters_host_[3], counters_host_[4]};
 }
 
 void CellPipeline::begin_gathers(std::size_t blocks) {

@@ -65,6 +65,7 @@ struct Settled {
     std::size_t left_domain = 0;  // now outside the domain (removed)
     std::size_t jumped = 0;       // moved more than one column in the step
     std::size_t kept = 0;         // now in the key range this device keeps
+    std::size_t kept_below_lo = 0, kept_below_hi = 0;  // of those, with keys below the split's lo, hi
 };
 
 // The step ahead's first kick and drift (Physics): its dt (the clock's float), rho0 and the halt flag.
@@ -100,7 +101,9 @@ public:
 
     // Settles the owned particles' drifted offsets into cells (keys in pos.w, nothing moved) and
     // counts what settled() reports.
-    void enqueue_settle(ParticleStore& store, KeyRange keep, cl_rt::EventSet& done);
+    // With `split`, also the kept particles whose keys lie below split.lo and below split.hi: where
+    // those keys begin among them once sorted (the interior of the halo overlap: multi/exchange.cpp).
+    void enqueue_settle(ParticleStore& store, KeyRange keep, cl_rt::EventSet& done, KeyRange split = {0, 0});
     Settled settled() const;
     // The step ahead: the same settle with its counters left on the device (end_step reads and
     // resets them: kernels/step_clock.cl).
@@ -140,15 +143,16 @@ public:
     void enqueue_count_cells(ParticleStore& store, std::size_t n, cl_rt::EventSet& done);
     std::size_t finish_tables(ParticleStore& store, std::size_t n);
     // Several devices, while the arrivals travel (the halo overlapped with the interior's forces):
-    // enqueue_count_cells over [0, n) where [0, hole) waits for the left arrivals and [hole, n)
-    // holds the kept particles in their final places, with the positions of `thresholds` (located()
-    // after the wait). finish_tables(store, n) then gives tables in which the cells of columns
-    // [first_old + 1, end_old - 1) hold their final particles (arrivals land only outside them), so
-    // the rows of cells in [first_old + 2, end_old - 2) are the ones the merged tables will have.
+    // enqueue_tables_bounded over [0, n) where [0, hole) waits for the left arrivals and [hole, n)
+    // holds the kept particles in their final places; nothing comes back. The cells of columns
+    // [first_old + 1, end_old - 1) then hold their final particles (arrivals land only outside
+    // them), so the rows of cells in [first_old + 2, end_old - 2) are the ones the merged tables
+    // will have, provided the count fitted: it is at most the merged tables' count + 1 (the hole's
+    // cell), so a merged count k with k + 1 <= interior_capacity() says it did.
     // Arrival order and edges apart only (throws otherwise: the morton order moves particles within
     // cells, and an edge sort through the scratch would overwrite the interior's forces).
-    void enqueue_interior_count(ParticleStore& store, std::size_t n, std::size_t hole,
-                                const std::vector<std::uint32_t>& thresholds, cl_rt::EventSet& done);
+    void enqueue_interior_tables(ParticleStore& store, std::size_t n, std::size_t hole);
+    std::size_t interior_capacity() const { return interior_capacity_; }
     // The step ahead: the tables without the count coming back. Every launch over cells runs over
     // the tables' capacity; the count lands in cell_count() ([0]: what the tables hold, [1]: as
     // found); a count above the capacity sets HALT_CELLS in `halt` (kernels/step_clock.cl) and
@@ -184,9 +188,11 @@ public:
     const cl_rt::Buffer& ranges() const { return ranges_; }
     // Device bytes of the cell tables (they follow the number of non-empty cells, not the domain).
     std::size_t table_bytes() const { return cell_key_.bytes() + cell_start_.bytes() + ranges_.bytes(); }
+    // Room in the tables for k cells and the headroom (the builds grow them as they need; the
+    // bounded ones cannot, and hold what the last builds made room for).
+    void reserve_cells(std::size_t k);
 
 private:
-    void reserve_cells(std::size_t k);
     void ensure_counters();
     // Builds drift_histogram.cl's kernel the first time; whether it runs in the sort's work-groups.
     bool drift_histogram_usable();
@@ -224,6 +230,8 @@ private:
     cl_rt::Buffer counters_, flags_, edge_keys_, edge_vals_;
     cl_rt::Buffer edge_arrays_;  // edges apart: the edges' particles in sorted order, before they go back
     bool edges_apart_ = false;
+    cl_rt::Buffer interior_halt_;  // the interior's tables: their overflow flag (read by nothing)
+    std::size_t interior_capacity_ = 0;
     cl_rt::Buffer cell_key_, cell_start_, ranges_, thresholds_, located_;
     std::size_t cell_capacity_ = 0, cells_ = 0;
     // The host ends of the small transfers the host waits for, in pinned memory (cl/async.hpp).

@@ -201,7 +201,7 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     add("exchange inbox: ids", s.inbox * u32, D > 1);
     // cell_pipeline.cpp: the settle's counters (every step, ahead or not); the keys the sorted
     // particles are located at (one slab: the end of the valid ones; several: each column's).
-    add("exchange counters", 3 * u32, false);
+    add("exchange counters", sz::kSettleCounters * u32, false);
     add("key thresholds", (D > 1 ? s.columns + 2 : 1) * u32, false);
     add("located keys", (D > 1 ? s.columns + 2 : 1) * u32, false);
     if (D > 1) {
@@ -211,6 +211,9 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
             add("edge sort keys", edge_cap * u32);
             add("edge sort values", edge_cap * u32);
             if (c.edges_apart) add("edge sort arrays", edge_cap * sz::kParticleBytes);
+        }
+        if (c.edges_apart) {  // the interior's bounded tables (cell_pipeline.cpp enqueue_interior_tables())
+            add("interior halt flag", u32, false);
         }
     }
     if (c.probe_points) {

@@ -38,6 +38,9 @@ inline std::size_t slab_capacity(std::size_t total, std::size_t slabs, double he
 
 // The cell tables for `cells` non-empty cells: the cell headroom and 16 more
 // (cell_pipeline.cpp reserve_cells()).
+// The settle's counters (cell_pipeline.hpp Settled, kernels/cells.cl settle_owned).
+inline constexpr std::size_t kSettleCounters = 5;
+
 inline std::size_t cell_capacity(std::size_t cells, double cell_headroom) {
     return cells + static_cast<std::size_t>(static_cast<double>(cells) * cell_headroom) + 16;
 }

@@ -1,4 +1,5 @@
 #include "multi/exchange.hpp"
+#include "clsph/error.hpp"
 #include "device/sizing.hpp"
 
 #include <algorithm>
@@ -123,7 +124,7 @@ void Exchange::settle_and_gather(bool wide, std::vector<Block>& blocks, std::vec
         Slab& s = slabs_[d];
         auto& ps = *s.store;
         if (before) before(d);  // the step's drift: the settle follows it in the queue
-        if (!wide) s.cells->enqueue_settle(ps, partition_.keys_of(need_[d]), gathered);
+        if (!wide) s.cells->enqueue_settle(ps, partition_.keys_of(need_[d]), gathered, interior_keys(d));
         // What each other device needs from this one lies in a window: one column wider on either
         // side than its columns, within what this device owned (or, `wide`, all of that).
         struct Window { std::size_t e, first, end; };
@@ -207,14 +208,16 @@ Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_le
     const std::size_t m = p.left + (p.end - p.right);
     if (p.left < p.right && (s.cells->edges_apart() || device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float)))
         p.merge = Merge::edges;
-    // The owned columns two or more inside the old ones: their rows reach only columns
-    // [first_old + 1, end_old - 1), which no arrival enters, and whose kept particles the edge
-    // sorts leave in place. Their forces need no arrival (Interior).
-    const std::size_t lo = std::max(s.first_col, s.columns_first + 2), hi = std::min(s.end_col, s.columns_end - 2);
-    if (p.merge == Merge::edges && interior_.allowed && interior_.allowed(e) && lo < hi) {
+    const device::KeyRange split = interior_keys(e);
+    if (p.merge == Merge::edges && split.hi > split.lo) {
+        // Where their particles lie among the kept ones once sorted: the settle counted the kept
+        // particles below either bound.
+        const device::Settled& settled = s.cells->settled();
         p.overlap = true;
-        p.interior_lo = partition_.column_key(lo);
-        p.interior_hi = partition_.column_key(hi);
+        p.interior_lo = std::max(s.first_col, s.columns_first + 2);
+        p.interior_hi = std::min(s.end_col, s.columns_end - 2);
+        p.run_first = from_left + settled.kept_below_lo;
+        p.run_end = from_left + settled.kept_below_hi;
     }
     return p;
 }
@@ -233,10 +236,11 @@ void Exchange::send(const std::vector<Block>& blocks, const std::vector<Plan>& p
         if (p.merge == Merge::edges || p.merge == Merge::kept_only) {
             s.store->reserve(p.from_left + p.held + p.from_right);  // keeps the sorted keys
             s.cells->enqueue_reorder(*s.store, p.held, p.from_left);
-            // The kept particles' tables and the interior's bounds, read while the blocks travel.
-            if (p.overlap)
-                s.cells->enqueue_interior_count(*s.store, p.from_left + p.kept, p.from_left,
-                                                {p.interior_lo, p.interior_hi}, sent);
+            // The kept particles' tables and the interior's forces, while the blocks travel.
+            if (p.overlap) {
+                s.cells->enqueue_interior_tables(*s.store, p.from_left + p.kept, p.from_left);
+                if (p.run_end > p.run_first) interior_.run(d, p.run_first, p.run_end);
+            }
             s.device->flush();
         }
     });
@@ -248,13 +252,6 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     auto& ps = *s.store;
     auto& dev = *s.device;
     const std::size_t n = p.from_left + p.from_right;
-    if (p.overlap) {  // the interior's forces first: they run while the arrivals are written
-        const auto& at = s.cells->located();
-        const std::size_t first = at[0], last = at[1];
-        s.cells->finish_tables(ps, p.from_left + p.kept);
-        if (last > first) interior_.run(e, first, last);
-        dev.flush();
-    }
     if (s.inbox.capacity() < n || !s.inbox.id) s.inbox.allocate(dev, device::sizing::box_capacity(n), "exchange inbox");
     // Arrivals into the inbox on the transfer queue: left senders first, then right ones. (On its
     // own host thread: a write from memory pinned in another device's context may hold the thread
@@ -324,8 +321,31 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
                                               : device::ParticleRanges{l.front(), l.back() - l.front(), valid - l.back()};
         remember_columns(s);
     }
-    s.cells->finish_tables(ps, ps.ranges.active());
+    const std::size_t cells = s.cells->finish_tables(ps, ps.ranges.active());
+    // The interior's forces stand where its tables held every cell (at most the merged count + 1).
+    s.interior_first = s.interior_end = 0;
+    if (p.overlap && several && cells + 1 <= s.cells->interior_capacity() && p.run_end > p.run_first) {
+        const auto& l = s.cells->located();
+        s.interior_first = l[p.interior_lo - s.first_col];
+        s.interior_end = l[p.interior_hi - s.first_col];
+        if (s.interior_first != p.run_first || s.interior_end != p.run_end)  // the settle's counts
+            throw Error("internal: the interior's particles are [" + std::to_string(s.interior_first) + ", " +
+                        std::to_string(s.interior_end) + ") after the merge, not [" + std::to_string(p.run_first) +
+                        ", " + std::to_string(p.run_end) + ") as the settle counted them, on " + s.device->label());
+    }
     then(e);
+}
+
+device::KeyRange Exchange::interior_keys(std::size_t d) const {
+    // The owned columns two or more inside the old ones: their rows reach only columns
+    // [first_old + 1, end_old - 1), which no arrival enters, and whose kept particles the edge
+    // sorts leave in place. Their forces need no arrival (Interior).
+    const Slab& s = slabs_[d];
+    if (!interior_.allowed || !interior_.allowed(d) || !s.columns_known() || s.columns_end - s.columns_first < 4)
+        return {0, 0};
+    const std::size_t lo = std::max(s.first_col, s.columns_first + 2), hi = std::min(s.end_col, s.columns_end - 2);
+    if (lo >= hi) return {0, 0};
+    return {partition_.column_key(lo), partition_.column_key(hi)};
 }
 
 void Exchange::send_remote_counts(const std::vector<Block>& blocks) {

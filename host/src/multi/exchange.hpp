@@ -66,10 +66,13 @@ public:
     // `before` (the step's drift), if given, runs on each device's thread before its settle.
     std::size_t run(const PerDevice& then, const Particles* created = nullptr, const PerDevice& before = {});
     // The halo overlapped with the interior's forces. Where allowed(d) and a device's merge sorts
-    // only its edges, the tables of what it kept are built while its arrivals travel, and
-    // run(d, first, last) enqueues the force pass of its owned particles [first, last) that lie two
-    // columns or more inside its old columns (their rows hold no arrival) before the arrivals are
-    // waited for; then(d) follows as always, after the merge and the whole tables.
+    // only its edges, the tables of what it kept are built as soon as it has moved them into
+    // sorted order, and run(d, first, last) enqueues the force pass of particles [first, last):
+    // the owned particles that lie two columns or more inside the device's old columns (their rows
+    // hold no arrival), where the settle's counts put them. All of that runs while the device's
+    // blocks travel. After the merge, the slab's interior_first and interior_end say whether those
+    // results stand (the rest of the owned particles are the force pass's in then(d)); both 0
+    // where they do not (the interior's tables overflowed), and the pass is then whole.
     struct Interior {
         std::function<bool(std::size_t)> allowed;
         std::function<void(std::size_t, std::size_t, std::size_t)> run;
@@ -84,7 +87,8 @@ private:
         std::size_t held = 0, kept = 0, from_left = 0, from_right = 0, left = 0, right = 0, end = 0;
         std::uint32_t left_top = 0xffffffffu, right_bottom = 0;  // the edges' bounds (device::EdgeSort)
         bool overlap = false;  // the interior's forces while the arrivals travel (Interior)
-        std::uint32_t interior_lo = 0, interior_hi = 0;  // their column keys
+        std::size_t interior_lo = 0, interior_hi = 0;  // their columns
+        std::size_t run_first = 0, run_end = 0;  // the range run() computes: [lo, hi)'s particles
     };
     void settle_and_gather(bool wide, std::vector<Block>& blocks, std::vector<char>& presorted, const PerDevice& before = {});
     Plan plan(std::size_t e, bool presorted, std::size_t from_left, std::size_t from_right, std::size_t created) const;
@@ -93,6 +97,8 @@ private:
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
     static void remember_columns(Slab& s);
     Link& link(std::size_t from, std::size_t to);
+    // The keys of device d's interior (Interior), from its cuts and its old columns; {0, 0}: none.
+    device::KeyRange interior_keys(std::size_t d) const;
     // Counts to and from slabs of other ranks (after the gathers; before the plans).
     void send_remote_counts(const std::vector<Block>& blocks);
     std::vector<std::size_t> remote_arrivals(std::size_t e, bool left);

@@ -28,8 +28,8 @@ struct Slab {
     double force_seconds = 0;                // last step's force pass (the balancer's input)
     std::size_t received_bytes = 0;          // copied in from other devices since the start
     // The halo overlapped with the interior (Exchange::Interior): the owned particles whose forces
-    // ran before the arrivals came, this step ([0, 0): none, the pass is whole), and the passes so
-    // split since the start.
+    // of the pass that ran before the arrivals came stand, set by the exchange after the merge
+    // ([0, 0): none, the pass is whole), and the passes so split since the start.
     std::size_t interior_first = 0, interior_end = 0;
     std::size_t split_passes = 0;
     // Where each owned column [columns_first, columns_end] began in the sorted particles after the

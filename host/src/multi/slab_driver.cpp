@@ -334,18 +334,18 @@ int SlabDriver::force_repeats(std::size_t d) const {
 
 void SlabDriver::interior_forces(std::size_t d, std::size_t first, std::size_t last) {
     Slab& s = slabs_[d];
-    s.force_timer->begin();  // a new pass; forces(d) adds the rest
+    s.force_timer->begin();  // a new pass; forces(d) adds the rest where the interior's results stand
     for (int k = 0; k < force_repeats(d); ++k) s.physics->forces_part(*s.store, *s.cells, s.store->scratch, first, last);
     s.force_timer->end();
-    s.interior_first = first;
-    s.interior_end = last;
 }
 
 void SlabDriver::forces(std::size_t d) {
     Slab& s = slabs_[d];
     auto& ps = *s.store;
     const bool timed = slabs_.size() > 1;  // only the balancer reads the time
-    // The interior ran while the arrivals travelled (interior_forces): the owned particles either side.
+    // The interior ran while the arrivals travelled (interior_forces) and its results stand (the
+    // exchange says which): the owned particles either side. Otherwise the whole pass, over
+    // whatever that one wrote.
     const bool split = s.interior_end > s.interior_first;
     if (timed) s.force_timer->begin(split);
     for (int k = 0; k < force_repeats(d); ++k) {
