@@ -208,14 +208,14 @@ Exchange::Plan Exchange::plan(std::size_t e, bool presorted, std::size_t from_le
     const std::size_t m = p.left + (p.end - p.right);
     if (p.left < p.right && (s.cells->edges_apart() || device::CellPipeline::edge_scratch_bytes(m) <= ps.capacity() * 4 * sizeof(float)))
         p.merge = Merge::edges;
-    const device::KeyRange split = interior_keys(e);
-    if (p.merge == Merge::edges && split.hi > split.lo) {
+    const auto [lo, hi] = interior_columns(e);
+    if (p.merge == Merge::edges && lo < hi) {
         // Where their particles lie among the kept ones once sorted: the settle counted the kept
-        // particles below either bound.
+        // particles below either column (interior_keys).
         const device::Settled& settled = s.cells->settled();
         p.overlap = true;
-        p.interior_lo = std::max(s.first_col, s.columns_first + 2);
-        p.interior_hi = std::min(s.end_col, s.columns_end - 2);
+        p.interior_lo = lo;
+        p.interior_hi = hi;
         p.run_first = from_left + settled.kept_below_lo;
         p.run_end = from_left + settled.kept_below_hi;
     }
@@ -336,14 +336,18 @@ void Exchange::receive_and_merge(std::size_t e, const std::vector<Block>& blocks
     then(e);
 }
 
-device::KeyRange Exchange::interior_keys(std::size_t d) const {
+std::pair<std::size_t, std::size_t> Exchange::interior_columns(std::size_t d) const {
     // The owned columns two or more inside the old ones: their rows reach only columns
     // [first_old + 1, end_old - 1), which no arrival enters, and whose kept particles the edge
     // sorts leave in place. Their forces need no arrival (Interior).
     const Slab& s = slabs_[d];
     if (!interior_.allowed || !interior_.allowed(d) || !s.columns_known() || s.columns_end - s.columns_first < 4)
         return {0, 0};
-    const std::size_t lo = std::max(s.first_col, s.columns_first + 2), hi = std::min(s.end_col, s.columns_end - 2);
+    return {std::max(s.first_col, s.columns_first + 2), std::min(s.end_col, s.columns_end - 2)};
+}
+
+device::KeyRange Exchange::interior_keys(std::size_t d) const {
+    const auto [lo, hi] = interior_columns(d);
     if (lo >= hi) return {0, 0};
     return {partition_.column_key(lo), partition_.column_key(hi)};
 }

@@ -97,7 +97,9 @@ private:
     void enqueue_column_positions(Slab& s, std::size_t n, cl_rt::EventSet& done) const;
     static void remember_columns(Slab& s);
     Link& link(std::size_t from, std::size_t to);
-    // The keys of device d's interior (Interior), from its cuts and its old columns; {0, 0}: none.
+    // Device d's interior (Interior), from its cuts and its old columns: its columns [lo, hi) (none
+    // where lo >= hi) and their keys ({0, 0}: none).
+    std::pair<std::size_t, std::size_t> interior_columns(std::size_t d) const;
     device::KeyRange interior_keys(std::size_t d) const;
     // Counts to and from slabs of other ranks (after the gathers; before the plans).
     void send_remote_counts(const std::vector<Block>& blocks);
