@@ -106,7 +106,7 @@ struct Context {
 // arrays of their own (cell_pipeline.cpp enqueue_edge_sort()). The order as SlabDriver resolves
 // `auto`: morton where every device runs lanes, the form `auto` gives CPUs.
 bool edges_apart_of(const Scene& scene, const std::vector<DeviceInfo>& devices, const Options& options, std::size_t D) {
-    if (D < 2 || (options.seams && options.seams->whole_force_pass)) return false;
+    if (D < 2 || (options.seams && (options.seams->whole_force_pass || options.seams->serialize_devices))) return false;
     if (scene.physics.density == DensityMode::summation || scene.physics.viscosity == Viscosity::laminar_sps) return false;
     const Interaction form = options.interaction != Interaction::automatic ? options.interaction : scene.run.interaction;
     if (form == Interaction::clusters) return false;

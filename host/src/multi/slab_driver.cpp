@@ -188,7 +188,9 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
     // Several devices: the interior's forces while the arrivals travel, where the force pass can be
     // split (no pass before it, no cluster lists) and the tables of the kept particles stay valid
     // (arrival order: the morton order moves particles within cells).
-    if (D > 1 && !options_.seams.whole_force_pass) {
+    // Not with serialize_devices: its point is each device's pass timed alone, and the interiors'
+    // passes are all enqueued before any device waits.
+    if (D > 1 && !options_.seams.whole_force_pass && !options_.seams.serialize_devices) {
         for (std::size_t d = 0; d < D; ++d)
             if (here(d) && slabs_[d].physics->splittable() && slabs_[d].cells->order() == CellOrder::arrival)
                 slabs_[d].cells->set_edges_apart(true);  // the interior's forces sit in the scratch

@@ -19,7 +19,8 @@ struct Seams {
     // before the first step does not see it, as a device that becomes slow mid-run).
     std::vector<int> slowdown;
     // Run each device's force pass alone (wait for it before starting the next), so devices that
-    // share a CPU are timed without each other's load.
+    // share a CPU are timed without each other's load. The pass is then never split around the
+    // halo (the interiors' passes would run together).
     bool serialize_devices = false;
     // OpenCL calls that fail (see Fault).
     std::vector<Fault> faults;
