@@ -308,24 +308,37 @@ TEST_CASE("one device opened as 2 and 4 slabs is bitwise the one-slab run, the b
     // On pocl's pthread device. Several slabs of one pocl device used to stop now and then in pocl
     // 3.1's own assertion (pocl_release_dlhandle_cache), since they shared each kernel's compiled
     // library; each slab now builds its own (Quirks::build_salt; test_runtime.cpp).
-    std::vector<std::unique_ptr<Simulation>> sims;
-    for (const std::size_t slabs : {1u, 2u, 4u, 3u}) {
-        Options o;
-        o.devices = test::validation_device_spec();
-        o.capacity_headroom = 5.0;  // room in the reorder scratch for the edges of a scene this small
-        if (slabs > 1) {
-            testing::Seams seams;
-            seams.slabs = slabs;
-            if (slabs == 3)
-                seams.cut_schedule = [](std::uint64_t, std::size_t columns) {
-                    return std::vector<std::size_t>{0, columns / 4, 3 * columns / 4, columns};
-                };
-            testing::set_seams(o, seams);
+    // In pocl's default order (morton) and in arrival order, where the slabs' force passes are
+    // split around the halo (the interior while the arrivals travel: docs/multi_device.md).
+    for (const CellOrder order : {CellOrder::automatic, CellOrder::arrival}) {
+        CAPTURE(std::string(cell_order_name(order)));
+        std::vector<std::unique_ptr<Simulation>> sims;
+        for (const std::size_t slabs : {1u, 2u, 4u, 3u}) {
+            Options o;
+            o.devices = test::validation_device_spec();
+            o.capacity_headroom = 5.0;  // room in the reorder scratch for the edges of a scene this small
+            o.cell_order = order;
+            if (slabs > 1) {
+                testing::Seams seams;
+                seams.slabs = slabs;
+                if (slabs == 3)
+                    seams.cut_schedule = [](std::uint64_t, std::size_t columns) {
+                        return std::vector<std::size_t>{0, columns / 4, 3 * columns / 4, columns};
+                    };
+                testing::set_seams(o, seams);
+            }
+            sims.push_back(std::make_unique<Simulation>(sliding_dam(0.146 / 8), o));
+            CHECK(sims.back()->memory().size() == slabs);
         }
-        sims.push_back(std::make_unique<Simulation>(sliding_dam(0.146 / 8), o));
-        CHECK(sims.back()->memory().size() == slabs);
+        CHECK(first_difference(sims, 100) == -1);
+        if (order != CellOrder::arrival) continue;
+        for (std::size_t k = 1; k < sims.size(); ++k) {
+            std::size_t split = 0;
+            for (const auto& share : sims[k]->shares()) split += share.split_force_passes;
+            MESSAGE(sims[k]->shares().size() << " slabs in arrival order: " << split << " force passes split around the halo");
+            CHECK(split > 0);
+        }
     }
-    CHECK(first_difference(sims, 100) == -1);
 }
 
 TEST_CASE("bitwise identical when every exchange sends from whole slabs and sorts once") {
