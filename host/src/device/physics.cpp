@@ -167,7 +167,6 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     floating_summed_ = false;  // the bodies' sums of an earlier pass (the calibration's) are not this one's
     if (n == 0) return;
     const auto g = grid_.params();
-    const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
     // Summation densities of every particle held, ghosts included: the force pass reads those of
     // the inner halo column, whose neighbours the second halo column holds (SlabDriver::set_up). The
     // outer column's are incomplete and never read; the next exchange replaces all ghosts. So the
@@ -176,7 +175,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     const std::size_t last = summation_ ? ps.ranges.active() : ps.ranges.end_owned();
     if (clusters_) clusters_->build(ps, cells, first, last);  // positions and tables are new every step
     if (summation_) {
-        const cl_uint a = set_loop_args(density_k_, first, last, ps, cells, g, sp_, per_cell, clusters_.get());
+        const cl_uint a = set_loop_args(density_k_, first, last, ps, cells, g, sp_, per_cell(), clusters_.get());
         density_k_.setArg(a, ps.velrho.get());
         density_k_.setArg(a + 1, ps.id.get());
         density_k_.setArg(a + 2, ps.scratch.get());  // free between reorders: new densities
@@ -201,8 +200,7 @@ void Physics::forces_part(ParticleStore& ps, const CellPipeline& cells, cl_rt::B
 
 void Physics::launch_forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
                             std::size_t last) {
-    const bool per_cell = form_ == Interaction::coarse || form_ == Interaction::lanes;
-    const cl_uint a = set_loop_args(forces_k_, first, last, ps, cells, grid_.params(), sp_, per_cell, clusters_.get());
+    const cl_uint a = set_loop_args(forces_k_, first, last, ps, cells, grid_.params(), sp_, per_cell(), clusters_.get());
     forces_k_.setArg(a, ps.velrho.get());
     forces_k_.setArg(a + 1, ps.id.get());
     forces_k_.setArg(a + 2, out.get());

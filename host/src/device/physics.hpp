@@ -157,6 +157,8 @@ public:
                                             const std::vector<std::array<double, 3>>& points);
 
 private:
+    // The forms whose kernels take a work-item (lanes) or a work-group (coarse) per cell.
+    bool per_cell() const { return form_ == Interaction::coarse || form_ == Interaction::lanes; }
     // An interaction kernel's launch: a work-item per particle of `count`, per cell, or a work-group per cell.
     void launch_interaction(const char* name, cl::Kernel& k, const CellPipeline& cells, std::size_t count);
     void launch_forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer& out, std::size_t first,
