@@ -22,6 +22,14 @@ void print_summary(std::ostream& os, const RunTotals& t) {
     if (t.last.created > 0) os << ", created " << t.last.created << " (inlets)";
     os << '\n';
     for (std::size_t i = 0; i < t.devices.size(); ++i) os << (i ? "           " : "  devices: ") << t.devices[i] << '\n';
+    if (t.list_buffer > 0 && t.table_builds > 0) {  // the first build comes before the first step
+        std::snprintf(text, sizeof text,
+                      "  cell tables: built %zu times in %llu steps (every %.1f steps), kept while no particle could "
+                      "move half the buffer (run.list_buffer %g)\n",
+                      t.table_builds, static_cast<unsigned long long>(t.steps),
+                      static_cast<double>(t.steps) / static_cast<double>(t.table_builds), t.list_buffer);
+        os << text;
+    }
     os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
        << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";
 }

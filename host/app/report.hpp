@@ -21,6 +21,9 @@ struct RunTotals {
     std::string out_dir;
     std::string collection;         // the .pvd
     std::vector<std::string> devices;  // a line per device: name and its share
+    // run.list_buffer > 0: the cell tables' builds since the start and the buffer (else 0: every step).
+    std::size_t table_builds = 0;
+    double list_buffer = 0.0;
 };
 
 void print_summary(std::ostream& os, const RunTotals& t);

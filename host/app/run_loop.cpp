@@ -232,6 +232,8 @@ private:
                                       "), interaction " + interaction_name(d.interaction) + ", cells in " +
                                       cell_order_name(d.cell_order) + " order");
         }
+        totals_.list_buffer = sim_.scene().run.list_buffer;
+        totals_.table_builds = sim_.table_builds().builds;
         print_summary(std::cout, totals_);
         if (surfaces_ && surfaces_->written() > 0) {
             if (surfaces_->meshes())

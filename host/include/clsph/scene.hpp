@@ -243,6 +243,10 @@ struct RunControl {
     double fixed_dt = 0.0;       // > 0: use this time step instead of the adaptive CFL step
     Interaction interaction = Interaction::automatic;  // the interaction form (clsph/interaction.hpp)
     CellOrder cell_order = CellOrder::automatic;       // the order within cells (clsph/interaction.hpp)
+    // The cell tables and cluster lists kept over steps (docs/interaction.md, "Lists kept over
+    // steps"): cells this fraction of the support wider, and the particles sorted again only when
+    // one may have moved more than half of that margin since the last sort. 0: sorted every step.
+    double list_buffer = 0.0;
 };
 
 // How water is drawn (render.method): the free surface meshed and rasterised, or the fluid

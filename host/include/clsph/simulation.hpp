@@ -38,6 +38,15 @@ struct DeviceShare {
     CellOrder cell_order = CellOrder::automatic;       // the order within cells (the run's, on every device)
 };
 
+// The cell tables (and the clusters form's lists) of the run: built, each with a sort of every
+// particle, once before the first step and then every step, or, with run.list_buffer, only when a
+// particle may have moved half the buffer since the last build (docs/interaction.md).
+struct TableBuilds {
+    std::size_t builds = 0;   // since the start (the first included)
+    std::size_t age = 0;      // steps since the last build
+    double moved = 0;         // the most any particle can have moved since then, m (a bound)
+};
+
 struct StepInfo {
     std::uint64_t step = 0;
     double time = 0.0;         // simulated time after the step (s)
@@ -149,6 +158,7 @@ public:
     // The order within cells the run resolved to (arrival or morton; the same on every device and
     // rank, also on a rank without devices).
     CellOrder cell_order() const;
+    TableBuilds table_builds() const;
 
     // The floating bodies now, in the order of boundaries.boxes (empty: none).
     std::vector<BodySample> bodies() const;

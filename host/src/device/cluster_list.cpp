@@ -8,8 +8,8 @@
 
 namespace clsph::device {
 
-ClusterList::ClusterList(cl_rt::Device& device, const Grid& grid, float support2)
-    : device_(device), grid_(grid), support2_(support2), wg_(device.work_group_size(128)) {
+ClusterList::ClusterList(cl_rt::Device& device, const Grid& grid, float reach2)
+    : device_(device), grid_(grid), reach2_(reach2), wg_(device.work_group_size(128)) {
     const std::string opts = grid.kernel_options() + kernel_options();
     boxes_k_ = device.kernel("clusters.cl", "cluster_boxes", opts);
     masks_k_ = device.kernel("clusters.cl", "cluster_masks", opts);
@@ -45,7 +45,7 @@ void ClusterList::build(ParticleStore& ps, const CellPipeline& cells, std::size_
     const cl_rt::Buffer& boxes = boxes_ ? boxes_ : ps.scratch;
     cl_rt::set_args(boxes_k_, k, capacity_, cells.cell_start(), ps.pos, begin_, boxes);
     device_.launch("sph.clusters.boxes", boxes_k_, k, wg_);
-    cl_rt::set_args(masks_k_, first, last, grid_.params(), support2_, ps.pos,
+    cl_rt::set_args(masks_k_, first, last, grid_.params(), reach2_, ps.pos,
                     ps.vals, cells.ranges(), cells.cell_key(), cells.cell_start(), boxes, masks_);
     device_.launch("sph.clusters.list", masks_k_, last - first, wg_);
     ++builds_;

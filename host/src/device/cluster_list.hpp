@@ -1,9 +1,10 @@
 // The cluster-pair lists of the clusters interaction form (kernels/clusters.cl): clusters of
 // sizing::kClusterSize consecutive particles of a cell, their bounding boxes, and for each cluster
 // a bit mask per neighbour row of the clusters whose boxes come within the support (the boxes in
-// the store's reorder scratch where they fit: sizing::cluster_boxes_borrowed). Built before
-// every interaction pass (Physics::forces): particles are re-sorted every step, which renumbers
-// them, so a list kept over several steps would name other particles (docs/interaction.md).
+// the store's reorder scratch where they fit: sizing::cluster_boxes_borrowed). Built before the
+// interaction pass on new cell tables (Physics::forces): every step, as particles are sorted
+// again every step, unless run.list_buffer keeps the tables, and the lists with them, over steps
+// (docs/interaction.md, "Lists kept over steps").
 #pragma once
 #include "cl/device.hpp"
 #include "device/cell_pipeline.hpp"
@@ -14,7 +15,9 @@ namespace clsph::device {
 
 class ClusterList {
 public:
-    ClusterList(cl_rt::Device& device, const Grid& grid, float support2);
+    // reach2: the square of the distance within which two clusters' boxes are listed (the
+    // support, plus run.list_buffer's margin where lists are kept over steps).
+    ClusterList(cl_rt::Device& device, const Grid& grid, float reach2);
     // Build options of the interaction kernels that read the lists (neighbour_loop.h).
     std::string kernel_options() const;
     // The lists of the owned particles' clusters for the tables `cells` holds now (neighbours: every
@@ -36,7 +39,7 @@ private:
     void reserve(std::size_t indices, std::size_t scratch_bytes);
     cl_rt::Device& device_;
     const Grid& grid_;
-    float support2_;
+    float reach2_;
     std::size_t wg_;
     cl::Kernel boxes_k_, masks_k_;
     cl_rt::Buffer begin_, boxes_, masks_;

@@ -13,8 +13,11 @@
 namespace clsph::detail {
 
 device::Grid grid_of(const Scene& scene) {
-    return device::Grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
-                        scene.domain.periodic, device::reach_for(scene.physics.support(), scene.physics.dp));
+    // Lists kept over steps (run.list_buffer): cells wider by the buffer, so that tables built
+    // before particles moved up to half of it still hold every pair within the support.
+    const double support = scene.physics.support();
+    return device::Grid(device::Box{scene.domain.min, scene.domain.max}, support * (1.0 + scene.run.list_buffer),
+                        scene.domain.split_axis, scene.domain.periodic, device::reach_for(support, scene.physics.dp));
 }
 
 MemoryCensus census_of(const Scene& scene, const Particles& p) {

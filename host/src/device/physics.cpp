@@ -84,7 +84,10 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     case Interaction::lanes: interaction += " -DCLSPH_LANES=" + std::to_string(kLanes); break;
     case Interaction::coarse: interaction += " -DCLSPH_COARSE -DWG=" + std::to_string(coarse_wg_); break;
     case Interaction::clusters:
-        clusters_ = std::make_unique<ClusterList>(device, grid, sp_.support2);
+        // Lists kept over steps (run.list_buffer) hold the clusters within the support plus the
+        // buffer: every pair that comes within the support before the next build.
+        clusters_ = std::make_unique<ClusterList>(
+            device, grid, static_cast<float>(std::pow(scene.physics.support() * (1.0 + scene.run.list_buffer), 2)));
         interaction += clusters_->kernel_options();
         break;
     default: break;
@@ -173,7 +176,7 @@ void Physics::forces(ParticleStore& ps, const CellPipeline& cells, cl_rt::Buffer
     // forces see the step's densities on every device count, as on one device (issue 33's find).
     const std::size_t first = summation_ ? 0 : ps.ranges.first_owned();
     const std::size_t last = summation_ ? ps.ranges.active() : ps.ranges.end_owned();
-    if (clusters_) clusters_->build(ps, cells, first, last);  // positions and tables are new every step
+    if (clusters_ && !tables_kept_) clusters_->build(ps, cells, first, last);  // on new tables
     if (summation_) {
         const cl_uint a = set_loop_args(density_k_, first, last, ps, cells, g, sp_, per_cell(), clusters_.get());
         density_k_.setArg(a, ps.velrho.get());

@@ -54,8 +54,12 @@ public:
     // Build options of kernels that evaluate SPH sums at points (probes, the free surface).
     const std::string& point_options() const { return point_options_; }
     Interaction interaction() const { return form_; }  // the form this device runs (never automatic)
-    // The clusters form's lists (null for the other forms): built before every forces().
+    // The clusters form's lists (null for the other forms): built before every forces() on new
+    // tables, kept with the tables (keep_tables).
     const ClusterList* cluster_list() const { return clusters_.get(); }
+    // run.list_buffer: the next passes run on the tables of the last build (the particles in the
+    // same places, moved less than half the buffer): the cluster lists built for them stand.
+    void keep_tables(bool kept) { tables_kept_ = kept; }
 
     // Accelerations and drho/dt of the owned particles into `out` (summation mode: densities
     // first, through ps.scratch). The step writes them to ps.scratch; kick() then makes them
@@ -197,6 +201,7 @@ private:
     bool floating_summed_ = false;  // enqueue_floating ran since the last add_floating_sums
     std::size_t wg_, coarse_wg_, kick_groups_;
     std::unique_ptr<ClusterList> clusters_;
+    bool tables_kept_ = false;
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;

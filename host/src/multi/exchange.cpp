@@ -53,6 +53,16 @@ std::size_t Exchange::sort_uploaded() {
     return removed;
 }
 
+void Exchange::keep(const PerDevice& then, const PerDevice& before) {
+    PhaseTimer t(phases_, "exchange: tables kept");
+    for_each_device_([&](std::size_t d) {
+        Slab& s = slabs_[d];
+        if (before) before(d);
+        s.interior_first = s.interior_end = 0;  // the force pass whole
+        then(d);
+    });
+}
+
 std::size_t Exchange::run(const PerDevice& then, const Particles* created, const PerDevice& before) {
     const std::size_t D = slabs_.size();
     need_ = partition_.needs(slabs_);

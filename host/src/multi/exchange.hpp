@@ -65,6 +65,10 @@ public:
     // cell lists them last on any device count.
     // `before` (the step's drift), if given, runs on each device's thread before its settle.
     std::size_t run(const PerDevice& then, const Particles* created = nullptr, const PerDevice& before = {});
+    // A step with the last exchange's tables kept (run.list_buffer: multi/list_schedule.hpp): no
+    // settle, no sort; each device runs before(d), its ghosts are brought up to date from their
+    // owners (the same particles, in the same places, as the last run() left them), then then(d).
+    void keep(const PerDevice& then, const PerDevice& before = {});
     // The halo overlapped with the interior's forces. Where allowed(d) and a device's merge sorts
     // only its edges, the tables of what it kept are built as soon as it has moved them into
     // sorted order, and run(d, first, last) enqueues the force pass of particles [first, last):

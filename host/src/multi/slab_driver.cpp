@@ -54,6 +54,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
         }
     }
+    set_up_lists(scene, D);
     if (options_.inlet_state) feed_.restore(*options_.inlet_state);
     outlet_zones_ = scene::has_outlet_zones(scene);
     // With inlets the count grows: the stores start with room for what the memory plan plans for.
@@ -222,6 +223,8 @@ StepOutcome SlabDriver::start() {
         },
         made);
     StepOutcome out = reductions(kicked);
+    lists_.built();
+    last_kick_ = out.kick;
     take_body_forces(0.0);
     out.removed = removed_at_upload_ + removed;
     out.created = made ? made->size() : 0;
@@ -231,10 +234,17 @@ StepOutcome SlabDriver::start() {
 
 // The step, on every device count. One device is the same path: no windows, no neighbours.
 StepOutcome SlabDriver::step_here(double dt, double time) {
-    keep_cuts_off_bodies();                        // mDBC, floating bodies: no cut within their ghost nodes' reach
-    apply_seams();                                 // tests: forced cuts
-    if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
-        rebalance();                               // cuts from the last step's force times (host only)
+    // run.list_buffer: the tables of the last build kept, unless a particle may leave their reach
+    // in this step; the particles, their order and the cuts stay as they are until the next build.
+    const bool build = lists_.due(dt, last_kick_.max_speed2, last_kick_.max_accel2);
+    if (build) {
+        keep_cuts_off_bodies();                    // mDBC, floating bodies: no cut within their ghost nodes' reach
+        apply_seams();                             // tests: forced cuts
+        if (steps_ > 0 && slabs_.size() > 1 && !options_.seams.cut_schedule)
+            rebalance();                           // cuts from the last step's force times (host only)
+    }
+    for (std::size_t d = 0; d < slabs_.size(); ++d)
+        if (here(d)) slabs_[d].physics->keep_tables(!build);
     const PerDevice drifted = drift(dt, time);     // first kick and drift, enqueued by the exchange before its settle
     cl_rt::EventSet kicked;
     std::size_t removed = 0;
@@ -253,18 +263,46 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
         made = created_by(time + dt);              // inlets: the layers due by the step's end,
         inlet_speeds_ = feed_.speeds(time + dt);   // their speeds then; outlet zones: their level then
         outlet_time_ = time + dt;
-        removed = exchange_->run([&](std::size_t d) {  // settle, send, merge, cell tables; then at
-            forces(d);                             // once on each device's thread: the force pass,
-            kick(d, dt, kicked);                   // the second kick and its reductions
-        }, made, drifted);
+        const PerDevice then = [&](std::size_t d) {  // after the cell tables, at once on each
+            forces(d);                             // device's thread: the force pass, the second
+            kick(d, dt, kicked);                   // kick and its reductions
+        };
+        if (build)
+            removed = exchange_->run(then, made, drifted);  // settle, send, merge, cell tables
+        else
+            exchange_->keep(then, drifted);        // the halos' copies brought up to date
     }
     StepOutcome out = reductions(kicked);         // wait; max |v|, max |a|, energy and bad values over all devices
+    if (build)
+        lists_.built();
+    else
+        lists_.kept(dt, last_kick_.max_speed2, last_kick_.max_accel2);
+    last_kick_ = out.kick;
     take_body_forces(symplectic_ ? 0.0 : dt);      // floating bodies: the kick (Symplectic: the new accelerations)
     out.removed = removed;
     out.created = made ? made->size() : 0;
     read_force_times();                            // the balancer's input for the next step
     ++steps_;
     return out;
+}
+
+void SlabDriver::set_up_lists(const Scene& scene, std::size_t devices) {
+    const double buffer = scene.run.list_buffer;
+    if (!(buffer > 0)) return;
+    // What moves particles besides the leap-frog drift, whose bound ListSchedule takes, or makes
+    // and removes them between sorts.
+    const char* why = symplectic_ ? "the Symplectic integrator (its corrector moves particles a second time)"
+                      : scene.has_motion()   ? "moving solids"
+                      : scene.has_floating() ? "floating bodies"
+                      : !scene.inlets.empty() ? "inlets"
+                      : scene::has_outlet_zones(scene) ? "outlet zones"
+                      : options_.ranks ? "several MPI ranks"
+                      : devices > 1    ? "several devices"
+                                       : nullptr;
+    if (why)
+        throw SceneError("run.list_buffer: tables kept over steps are not supported with " + std::string(why) +
+                         " in this version; set run.list_buffer to 0");
+    lists_ = ListSchedule(0.5 * buffer * scene.physics.support());
 }
 
 void SlabDriver::apply_seams() {

@@ -17,6 +17,7 @@
 #include "device/sizing.hpp"
 #include "multi/device_threads.hpp"
 #include "multi/exchange.hpp"
+#include "multi/list_schedule.hpp"
 #include "multi/partition.hpp"
 #include "multi/phase_timer.hpp"
 #include "multi/rigid_bodies.hpp"
@@ -87,7 +88,8 @@ public:
     // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
     // the host sums each step.)
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && !outlet_zones_ && device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
+        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && !outlet_zones_ && !lists_.on() &&
+               device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
                                                                slabs_[0].physics->has_clock(),
                                                                slabs_[0].physics->symplectic());
     }
@@ -129,6 +131,8 @@ public:
     std::size_t columns() const { return partition_.columns(); }
     // Host wall time spent in each phase of the step since the start (where the time goes).
     const PhaseTotals& phase_seconds() const { return phases_; }
+    // run.list_buffer: when the cell tables (and cluster lists) were built (every step without it).
+    const ListSchedule& lists() const { return lists_; }
 
 private:
     StepOutcome step_here(double dt, double time);
@@ -183,6 +187,12 @@ private:
     // Outlet zones (scene/open_boundaries.hpp): the time the force pass's level is for.
     bool outlet_zones_ = false;
     double outlet_time_ = 0;
+
+    // run.list_buffer > 0: the tables kept over steps while no particle can have moved half the
+    // buffer (ListSchedule), from the last step's reductions (last_kick_).
+    ListSchedule lists_;
+    device::KickResult last_kick_;
+    void set_up_lists(const Scene& scene, std::size_t devices);
 
     Partition partition_;
     DriverOptions options_;

@@ -301,7 +301,7 @@ void read_probes(const Json& v, Scene& s) {
 }
 
 RunControl read_run(const Json& v) {
-    Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction", "cell_order"});
+    Fields f(v, "run", {"end_time", "output_every", "probe_every", "fixed_dt", "interaction", "cell_order", "list_buffer"});
     RunControl r;
     r.end_time = f.number("end_time", r.end_time);
     r.output_every = f.number("output_every", r.output_every);
@@ -313,6 +313,7 @@ RunControl read_run(const Json& v) {
                               {"clusters", Interaction::clusters}});
     r.cell_order = f.choice("cell_order", r.cell_order,
                             {{"auto", CellOrder::automatic}, {"arrival", CellOrder::arrival}, {"morton", CellOrder::morton}});
+    r.list_buffer = f.number("list_buffer", r.list_buffer);
     return r;
 }
 

@@ -208,6 +208,7 @@ Json scene_to_document(const Scene& s) {
     // Only where it is not the default: a scene's hash (checkpoints check it) stays what it was
     // before the key existed.
     if (s.run.cell_order != CellOrder::automatic) run["cell_order"] = cell_order_name(s.run.cell_order);
+    if (s.run.list_buffer != 0) run["list_buffer"] = s.run.list_buffer;
     doc["run"] = run;
     Json render;
     render["method"] = s.render.method == RenderMethod::splat ? "splat" : "surface";

@@ -181,6 +181,8 @@ void Scene::validate() const {
     require(run.probe_every >= 1, "run.probe_every", "must be >= 1");
     require(std::isfinite(run.fixed_dt) && run.fixed_dt >= 0, "run.fixed_dt",
             "must be a finite time >= 0 s (0: the adaptive CFL step)");
+    require(std::isfinite(run.list_buffer) && run.list_buffer >= 0 && run.list_buffer <= 1, "run.list_buffer",
+            "must be a fraction of the kernel support from 0 (sorted every step) to 1");
 
     require(render.method == RenderMethod::surface || render.method == RenderMethod::splat, "render.method",
             "must be \"surface\" or \"splat\"");

@@ -14,6 +14,7 @@
 
 #include "cl/errors.hpp"
 #include "device/grid.hpp"
+#include "device/memory_model.hpp"
 #include "multi/slab_driver.hpp"
 #include "render/frame_cache.hpp"
 #include "surface/extract.hpp"
@@ -28,10 +29,6 @@
 
 namespace clsph {
 
-inline device::Grid grid_of(const Scene& s) {
-    return device::Grid(device::Box{s.domain.min, s.domain.max}, s.physics.support(), s.domain.split_axis,
-                        s.domain.periodic, device::reach_for(s.physics.support(), s.physics.dp));
-}
 
 struct Simulation::Impl {
     Scene scene;
@@ -51,7 +48,7 @@ struct Simulation::Impl {
     Impl(const Scene& s, const Options& o, const std::function<simulation::Source(const device::Grid&)>& source_of)
         : scene(s),
           options(o),
-          grid(grid_of(scene)),
+          grid(detail::grid_of(scene)),
           source(source_of(grid)),
           opened(simulation::open(scene, grid, options, source)),
           driver(*opened.driver),

@@ -27,6 +27,11 @@ std::vector<DeviceShare> Simulation::shares() const {
 
 CellOrder Simulation::cell_order() const { return impl_->driver.cell_order(); }
 
+TableBuilds Simulation::table_builds() const {
+    const auto& lists = impl_->driver.lists();
+    return {lists.builds(), lists.age(), lists.moved()};
+}
+
 std::vector<KernelTime> Simulation::profile() {
     std::vector<KernelTime> out;
     for (auto& d : impl_->opened.devices)
