@@ -73,10 +73,14 @@ int main(int argc, char** argv) {
     std::size_t max_steps = 0, slabs = 1;
     std::string scene_file, viscosity = "artificial";
     double nu = clsph::PhysicsParams{}.kinematic_viscosity;
+    double list_buffer = 0;
     app.add_option("--viscosity", viscosity, "viscosity model: artificial | laminar | laminar+sps (physics.viscosity)")
         ->check(CLI::IsMember({"artificial", "laminar", "laminar+sps"}));
     app.add_option("--nu", nu, "kinematic viscosity of the laminar model (m^2/s; physics.kinematic_viscosity)");
     app.add_option("--scene", scene_file, "a scene file instead of the built-in SPHERIC-2 (its dp replaced by --dp; its probes sampled at the end)");
+    app.add_option("--list-buffer", list_buffer,
+                   "cell tables and cluster lists kept over steps with this buffer, a fraction of the support "
+                   "(run.list_buffer; 0: sorted every step)");
     app.add_option("--steps", max_steps, "time at most N steps (0: no limit; a billion particles: a few)");
     app.add_option("--devices", devices, "device selection (default: $CLSPH_DEVICES or every GPU)");
     app.add_option("--dp", dp, "particle spacing (m)");
@@ -105,6 +109,7 @@ int main(int argc, char** argv) {
         if (viscosity == "laminar") scene.physics.viscosity = clsph::Viscosity::laminar;
         if (viscosity == "laminar+sps") scene.physics.viscosity = clsph::Viscosity::laminar_sps;
         scene.physics.kinematic_viscosity = nu;
+        scene.run.list_buffer = list_buffer;
         clsph::Options opts;
         opts.devices = devices;
         opts.profile = true;
@@ -170,6 +175,11 @@ int main(int argc, char** argv) {
         std::printf("steps: %.0f to t = %.3f s; wall %.2f s\n", steps, sim.time(), wall);
         std::printf("**%.2f ms/step**, %.0f wall s per simulated s, %.3g particle-steps/s\n\n", 1e3 * wall / steps,
                     wall / sim.time(), static_cast<double>(p.size()) * steps / wall);
+        if (list_buffer > 0) {
+            const auto tb = sim.table_builds();
+            std::printf("cell tables built %zu times in %.0f steps (every %.1f steps; list buffer %g of the support)\n\n",
+                        tb.builds, steps, steps / static_cast<double>(tb.builds), list_buffer);
+        }
         auto prof = sim.profile();
         if (!trace.empty()) write_trace(trace, sim.take_trace(), steps);
         double total = 0;

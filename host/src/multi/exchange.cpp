@@ -53,13 +53,70 @@ std::size_t Exchange::sort_uploaded() {
     return removed;
 }
 
+std::vector<Exchange::Refresh> Exchange::refreshes() const {
+    // Device e's ghosts are the particles of columns [lo, first) and [end, hi) of its need, in
+    // sorted order: each owner's part, in column order, is where the owner's column positions say.
+    std::vector<Refresh> out;
+    for (std::size_t e = 0; e < slabs_.size(); ++e) {
+        const Slab& r = slabs_[e];
+        if (!ranks_.here(e) || r.empty()) continue;
+        const Need& need = need_[e];
+        const auto& held = r.store->ranges;
+        for (bool left : {true, false}) {
+            const std::size_t lo = left ? need.lo : need.end, hi = left ? need.first : need.hi;
+            std::size_t to = left ? 0 : held.end_owned(), got = 0;
+            for (std::size_t d = 0; d < slabs_.size(); ++d) {
+                const Slab& s = slabs_[d];
+                const std::size_t a = std::max(lo, s.first_col), b = std::min(hi, s.end_col);
+                if (d == e || s.empty() || a >= b) continue;
+                if (!s.columns_known() || s.columns_first != s.first_col || s.columns_end != s.end_col)
+                    throw Error("internal: the tables are kept, but " + s.device->label() + "'s column positions are not its columns'");
+                const std::size_t first = s.column_at[a - s.first_col], end = s.column_at[b - s.first_col];
+                if (end > first) out.push_back({d, e, first, end - first, to});
+                to += end - first;
+                got += end - first;
+            }
+            if (got != (left ? held.ghosts_before : held.ghosts_after))
+                throw Error("internal: the tables are kept, but " + r.device->label() + " holds " +
+                            std::to_string(left ? held.ghosts_before : held.ghosts_after) + (left ? " left" : " right") +
+                            " ghosts where its neighbours own " + std::to_string(got));
+        }
+    }
+    return out;
+}
+
 void Exchange::keep(const PerDevice& then, const PerDevice& before) {
-    PhaseTimer t(phases_, "exchange: tables kept");
+    PhaseTimer t(phases_, "exchange: tables kept, ghosts copied");
+    // The copies are read on the owners' compute queues, after their drifts, and written on the
+    // receivers', before their force passes: the ghosts hold their owners' particles of this step
+    // in the places the last exchange gave them, so every device's tables still name them.
+    const std::vector<Refresh> parts = slabs_.size() > 1 ? refreshes() : std::vector<Refresh>{};
+    for (const auto& p : parts)  // made here, not on the device threads
+        if (!refresh_staging_.count({p.d, p.e})) refresh_staging_[{p.d, p.e}] = std::make_unique<cl_rt::PinnedHost>();
+    cl_rt::EventSet read;
     for_each_device_([&](std::size_t d) {
         Slab& s = slabs_[d];
         if (before) before(d);
+        for (const auto& p : parts) {
+            if (p.d != d) continue;
+            auto& staging = *refresh_staging_.at({p.d, p.e});
+            staging.reserve(*s.device, p.n * device::ParticleArrays::kBytesPerParticle);
+            device::read_particles(*s.device, *s.store, p.first, p.n, staging.data(), read, cl_rt::Device::On::compute);
+        }
+        s.device->flush();
+    });
+    read.wait("copying the neighbouring devices' particles to their ghosts", wait_);
+    for_each_device_([&](std::size_t e) {
+        Slab& s = slabs_[e];
+        cl_rt::EventSet written;  // in order before the force pass on the same queue
+        for (const auto& p : parts)
+            if (p.e == e) {
+                device::write_particles(*s.device, *s.store, p.to, p.n, refresh_staging_.at({p.d, p.e})->data(), written,
+                                        cl_rt::Device::On::compute);
+                s.received_bytes += p.n * device::ParticleArrays::kBytesPerParticle;
+            }
         s.interior_first = s.interior_end = 0;  // the force pass whole
-        then(d);
+        then(e);
     });
 }
 

@@ -84,6 +84,10 @@ public:
     void overlap_interior(Interior interior) { interior_ = std::move(interior); }
 
 private:
+    // keep(): owner d's particles [first, first + n) copied over device e's ghosts at `to`.
+    struct Refresh { std::size_t d, e, first, n, to; };
+    std::vector<Refresh> refreshes() const;
+    std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<cl_rt::PinnedHost>> refresh_staging_;
     struct Block { std::size_t d, e, index, base; };  // sender, receiver, gather block, outbox offset
     enum class Merge { empty, kept_only, edges, all };
     struct Plan {

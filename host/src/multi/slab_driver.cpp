@@ -54,7 +54,7 @@ void SlabDriver::set_up(const std::vector<cl_rt::Device*>& devices, const Scene&
             ranks_.slab_rank.insert(ranks_.slab_rank.end(), counts[static_cast<std::size_t>(r)], r);
         }
     }
-    set_up_lists(scene, D);
+    set_up_lists(scene);
     if (options_.inlet_state) feed_.restore(*options_.inlet_state);
     outlet_zones_ = scene::has_outlet_zones(scene);
     // With inlets the count grows: the stores start with room for what the memory plan plans for.
@@ -286,7 +286,7 @@ StepOutcome SlabDriver::step_here(double dt, double time) {
     return out;
 }
 
-void SlabDriver::set_up_lists(const Scene& scene, std::size_t devices) {
+void SlabDriver::set_up_lists(const Scene& scene) {
     const double buffer = scene.run.list_buffer;
     if (!(buffer > 0)) return;
     // What moves particles besides the leap-frog drift, whose bound ListSchedule takes, or makes
@@ -297,7 +297,6 @@ void SlabDriver::set_up_lists(const Scene& scene, std::size_t devices) {
                       : !scene.inlets.empty() ? "inlets"
                       : scene::has_outlet_zones(scene) ? "outlet zones"
                       : options_.ranks ? "several MPI ranks"
-                      : devices > 1    ? "several devices"
                                        : nullptr;
     if (why)
         throw SceneError("run.list_buffer: tables kept over steps are not supported with " + std::string(why) +

@@ -192,7 +192,7 @@ private:
     // buffer (ListSchedule), from the last step's reductions (last_kick_).
     ListSchedule lists_;
     device::KickResult last_kick_;
-    void set_up_lists(const Scene& scene, std::size_t devices);
+    void set_up_lists(const Scene& scene);
 
     Partition partition_;
     DriverOptions options_;
