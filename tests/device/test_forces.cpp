@@ -3,6 +3,7 @@
 // laminar viscosity, both kernels; the clusters form bitwise the fine form (the same terms summed
 // in the same order).
 #include "device/physics.hpp"
+#include "multi/list_schedule.hpp"
 #include "support/sph_reference.hpp"
 #include "support/test_devices.hpp"
 
@@ -10,6 +11,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 using namespace clsph;
 using namespace clsph::device;
@@ -280,6 +282,103 @@ TEST_CASE("every interaction term matches a CPU implementation on every device")
         }
     }
 }
+TEST_CASE("tables and cluster lists kept over steps (run.list_buffer): the CPU's forces while no particle moved half the buffer; a longer move is caught") {
+    // Cells the buffer wider; the particles moved in place (their offsets from the cells they were
+    // sorted into) three times by up to 0.3 of half the buffer, each pass on the first tables and
+    // lists against the double-precision reference at the new positions. Then one particle moves
+    // two supports: the schedule asks for a build, the stale tables miss its new neighbours (the
+    // check fails there: the negative control), and the rebuilt ones find them again.
+    struct Config { double hdp; int reach; };
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        for (const Config c : {Config{1.5, 1}, Config{2.2, 2}})
+            for (const Interaction form : interaction_forms()) {
+                CAPTURE(c.hdp);
+                CAPTURE(std::string(interaction_name(form)));
+                Scene s;
+                s.physics.dp = 0.01;
+                s.physics.hdp = c.hdp;
+                s.physics.c0 = 15.0;
+                s.physics.diffusion = Diffusion::fourtakas;
+                s.physics.alpha = 0.1;
+                s.physics.alpha_wall = 0.05;
+                s.domain.min = {0, 0, 0};
+                s.domain.max = {0.3, 0.3, 0.3};
+                s.run.list_buffer = 0.25;
+                const double support = s.physics.support(), half = 0.5 * s.run.list_buffer * support;
+                auto gen = test::rng(331);
+                const Particles in = random_block(gen, s.physics.dp);
+                Grid grid(Box{s.domain.min, s.domain.max}, support * (1 + s.run.list_buffer), -1, {false, false, false},
+                          c.reach);
+                ParticleStore ps(*d, grid, in.size());
+                ps.upload(in);
+                CellPipeline cells(*d, grid);
+                Physics phys(*d, grid, s, form);
+                multi::ListSchedule lists(half);
+                cells.run(ps);
+                lists.built();
+                const std::size_t n = in.size();
+                // One force pass on the tables as they are; the components off the reference.
+                auto pass = [&](bool kept) {
+                    phys.keep_tables(kept);
+                    const Particles state = ps.download();
+                    d->fill(ps.accel, std::numeric_limits<float>::quiet_NaN(), 4 * ps.capacity());  // poison
+                    phys.forces(ps, cells, ps.accel);
+                    std::vector<float> acc(4 * n);
+                    d->read(ps.accel, acc.data(), acc.size());
+                    const Expect e = cpu_forces(s, state);
+                    std::size_t bad = 0;
+                    for (std::size_t i = 0; i < n; ++i)
+                        for (int k = 0; k < 4; ++k)
+                            bad += !(std::abs(acc[4 * i + k] - e.value[i][k]) <= 2e-5 * e.scale[i] + 1e-6);
+                    return bad;
+                };
+                // Particle i's offset moved by dx (the key in w, its cell, stays).
+                auto move = [&](const std::vector<std::array<double, 3>>& dx) {
+                    std::vector<float> pos(4 * n);
+                    d->read(ps.pos, pos.data(), pos.size());
+                    for (std::size_t i = 0; i < n; ++i)
+                        for (int k = 0; k < 3; ++k) pos[4 * i + k] += static_cast<float>(dx[i][k]);
+                    d->write(ps.pos, pos.data(), pos.size());
+                };
+                CHECK(pass(false) == 0);
+                const double step = 0.3 * half;
+                std::uniform_real_distribution<double> u(-1.0, 1.0);
+                const Particles sorted = ps.download();
+                for (int k = 0; k < 3; ++k) {
+                    REQUIRE(!lists.due(1.0, step * step, 0.0));
+                    std::vector<std::array<double, 3>> dx(n, {0, 0, 0});
+                    for (std::size_t i = 0; i < n; ++i) {
+                        if (sorted.type[i] != ParticleType::fluid) continue;
+                        std::array<double, 3> v{u(gen), u(gen), u(gen)};
+                        const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                        for (auto& x : v) x *= step / std::max(len, 1.0);  // |dx| <= step
+                        dx[i] = v;
+                    }
+                    move(dx);
+                    lists.kept(1.0, step * step, 0.0);
+                    CHECK(pass(true) == 0);
+                }
+                CHECK(lists.age() == 3);
+                // The fluid particle nearest the block's -x face, mid-block, two supports along +x.
+                std::size_t far = n;
+                for (std::size_t i = 0; i < n; ++i)
+                    if (sorted.type[i] == ParticleType::fluid && std::abs(sorted.position[i][1] - 0.135) < 0.01 &&
+                        (far == n || sorted.position[i][0] < sorted.position[far][0]))
+                        far = i;
+                REQUIRE(far < n);
+                std::vector<std::array<double, 3>> dx(n, {0, 0, 0});
+                dx[far][0] = 2 * support;
+                move(dx);
+                CHECK(lists.due(1.0, 4 * support * support, 0.0));
+                CHECK(pass(true) > 0);  // stale tables: the moved particle's new neighbours missed
+                cells.run(ps);
+                lists.built();
+                CHECK(pass(false) == 0);
+            }
+    }
+}
+
 TEST_CASE("laminar+sps: the stress and its force as plain C++ has them, on every device and form") {
     // Densities at rho0 (no pressure) and nu = 0 (no laminar term): the accelerations are the SPS
     // stress's alone, each particle's tau / rho^2 read back too; velocities of 10 m/s over dp =
