@@ -59,7 +59,7 @@ Grid::Grid(const Box& domain, double support, int split_axis, std::array<bool, 3
         cell[pos] = periodic[k] ? ext[k] / n[pos] : edge;
         if (periodic[k] && n[pos] < static_cast<std::uint32_t>(2 * reach + 1))
             throw SceneError(std::string("domain: periodic axis ") + axis_name(k) +
-                             " must be at least 3 kernel supports long");
+                             " must be at least 3 kernel supports long (with run.list_buffer: 3 supports and buffers)");
     }
     const unsigned bb = bits_for(std::uint64_t{n[2]} + 2 * reach), ba = bits_for(n[1]), bs = bits_for(n[0]);
     key_bits_ = std::max(1u, bb + ba + bs);
