@@ -4,6 +4,7 @@
 // a moving solid, Leap-frog and Symplectic, the step ahead and the synchronous path. (Against the
 // double-precision reference: test_forces.cpp; on one and three devices: test_interaction_forms.cpp
 // and, bitwise, the multi_bitwise case below.)
+#include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
 #include "device/cluster_list.hpp"
 #include "device/physics.hpp"
@@ -173,6 +174,27 @@ TEST_CASE("cluster lists: cluster starts and every row's mask as plain C++ finds
             CHECK(missing == 0);
             CHECK(needless == 0);
             CHECK(cluster_candidates < fine_candidates);  // the boxes prune (by how much: the MESSAGE)
+        }
+    }
+}
+
+TEST_CASE("run.list_buffer with what else moves, makes or removes particles is refused, naming the key and why") {
+    Scene symplectic = test::small_tank(0.1, 0.1);
+    symplectic.physics.integrator = Integrator::symplectic;
+    const std::pair<Scene, const char*> cases[] = {{symplectic, "Symplectic"}, {moving_paddle(false), "moving solids"}};
+    for (auto [scene, why] : cases) {
+        CAPTURE(why);
+        scene.run.list_buffer = 0.1;
+        Options o;
+        o.devices = test::validation_device_spec();
+        try {
+            Simulation sim(scene, o);
+            FAIL("accepted");
+        } catch (const SceneError& e) {
+            const std::string what = e.what();
+            CAPTURE(what);
+            CHECK(what.find("run.list_buffer") != std::string::npos);
+            CHECK(what.find(why) != std::string::npos);
         }
     }
 }

@@ -246,6 +246,28 @@ TEST_CASE("run.cell_order: each order by name, written back by to_json only wher
     CHECK_THROWS_AS(clsph::cell_order_from_name("Morton"), clsph::Error);
 }
 
+TEST_CASE("run.list_buffer: read, written back only where not 0, and a value outside [0, 1] refused naming the key") {
+    const std::string base = R"({"physics": {"dp": 0.05}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+            "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}])";
+    const clsph::Scene plain = clsph::Scene::from_json_text(base + "}", "plain.json");
+    CHECK(plain.run.list_buffer == 0);
+    CHECK(plain.to_json().find("list_buffer") == std::string::npos);  // the hash of older scenes stays
+    const clsph::Scene s = clsph::Scene::from_json_text(base + R"(, "run": {"list_buffer": 0.125}})", "b.json");
+    CHECK(s.run.list_buffer == 0.125);
+    CHECK(clsph::Scene::from_json_text(s.to_json(), "back.json").run.list_buffer == 0.125);
+    for (const char* bad : {"-0.1", "1.5", "\"wide\""}) {
+        CAPTURE(bad);
+        try {
+            (void)clsph::Scene::from_json_text(base + R"(, "run": {"list_buffer": )" + bad + "}}", "bad.json");
+            FAIL("accepted");
+        } catch (const clsph::Error& e) {
+            const std::string what = e.what();
+            CAPTURE(what);
+            CHECK(what.find("list_buffer") != std::string::npos);
+        }
+    }
+}
+
 TEST_CASE("run.interaction: every form by name, written back by to_json; another name is refused naming the key") {
     const std::string base = R"({"physics": {"dp": 0.05}, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
             "fluid": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "run": {"interaction": ")";
