@@ -51,8 +51,9 @@ void set_loop_args(cl::Kernel& k, const device::ParticleStore& ps, const device:
 // The clusters form: what building its lists costs, and what its pass executes against fine
 // (kernels/clusters.cl cluster_counts).
 void cluster_counts(cl_rt::Device& d, device::ParticleStore& ps, const device::CellPipeline& cp,
-                    const device::Grid& grid, float support2, int warmup, int repeats, double fine_candidates) {
-    device::ClusterList list(d, grid, support2);
+                    const device::Grid& grid, float support2, float list2, int warmup, int repeats,
+                    double fine_candidates) {
+    device::ClusterList list(d, grid, list2);
     const auto s = bench::measure(warmup, repeats, [&] { return bench::time_launches(d, [&] { list.build(ps, cp); }); });
     const std::size_t n = ps.ranges.owned;
     auto k = d.kernel("clusters.cl", "cluster_counts", grid.kernel_options() + list.kernel_options());
@@ -120,7 +121,9 @@ Particles reordered(const Particles& p, const std::string& how, const Scene& sce
 
 void run_device(cl_rt::Device& d, const Scene& scene, const Particles& p, double t, const std::vector<Interaction>& forms,
                 int warmup, int repeats, int reach, CellOrder order) {
-    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, scene.physics.support(), scene.domain.split_axis,
+    // run.list_buffer (--list-buffer): cells and cluster lists that much wider, as kept tables have them.
+    const double list_reach = scene.physics.support() * (1.0 + scene.run.list_buffer);
+    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, list_reach, scene.domain.split_axis,
                       scene.domain.periodic, reach);
     device::ParticleStore ps(d, grid, p.size(), 0.0);
     ps.upload(p);
@@ -225,7 +228,8 @@ void run_device(cl_rt::Device& d, const Scene& scene, const Particles& p, double
     }
     std::printf("\n%.3g neighbour pairs (self excluded) per force pass\n", hits - double(n));
     if (std::find(forms.begin(), forms.end(), Interaction::clusters) != forms.end()) 
-        cluster_counts(d, ps, cp, grid, support2, warmup, repeats, candidates);
+        cluster_counts(d, ps, cp, grid, support2, static_cast<float>(list_reach * list_reach), warmup, repeats,
+                       candidates);
 }
 
 }  // namespace
@@ -241,7 +245,12 @@ int main(int argc, char** argv) {
     std::string within = "memory", cell_order = "arrival";
     bool at_rest = false;
     std::string state;
+    double list_buffer = 0;
     app.add_option("--devices", devices, "device selection");
+    app.add_option("--list-buffer", list_buffer,
+                   "cells and cluster lists wider by this fraction of the support, as run.list_buffer makes them "
+                   "(the candidates a pass on tables just built tests; 0: sorted every step)")
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--dp", dp, "particle spacing (m)");
     app.add_option("--repeats", repeats, "timed repeats");
     app.add_option("--warmup", warmup, "untimed runs first");
@@ -273,7 +282,8 @@ int main(int argc, char** argv) {
     try {
         std::vector<Interaction> forms;
         for (const auto& s : names) forms.push_back(interaction_from_name(s));
-        const Scene scene = bench::spheric2_scene(dp);
+        Scene scene = bench::spheric2_scene(dp);
+        scene.run.list_buffer = list_buffer;
         if (reaches.empty()) reaches.push_back(device::reach_for(scene.physics.support(), scene.physics.dp));
         auto opened = cl_rt::open_devices(devices, cl_rt::OpenOptions{true});
         if (until > 0 && opened.size() != 1)
