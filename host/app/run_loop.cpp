@@ -199,6 +199,7 @@ public:
         progress_.clear();
         frames_.finish();
         totals_.loop_seconds = seconds_since(start);
+        if (sim_.scene().run.list_buffer > 0) record_.table_builds(sim_.table_builds().builds);
         record_.finish(totals_.outcome, sim_.info(), message, code, signal);
         disarm_abort_record();
         if (speaks(args_)) report(code, message, first_step);  // across ranks, rank 0 reports

@@ -248,6 +248,7 @@ std::string RunRecord::json_text(const Ending& e) const {
           << "  \"wall_seconds\": " << json_number(last->wall_seconds) << ",\n"
           << "  \"particles\": " << last->particles << ",\n"
           << "  \"removed\": " << last->removed << ",\n";
+        if (table_builds_ > 0) j << "  \"table_builds\": " << table_builds_ << ",\n";
     }
     if (!last_bodies_.empty()) {  // floating bodies: their state at the last row written
         j << "  \"bodies\": [";

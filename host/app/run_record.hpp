@@ -54,6 +54,9 @@ public:
     // Floating bodies (Simulation::bodies): a row in each body_NAME.csv (opened at the first call;
     // on a resume, kept up to the checkpoint's time), and the last state for run.json.
     void bodies(const std::vector<BodySample>& samples);
+    // run.list_buffer > 0: the cell tables' builds since this process started, for run.json
+    // ("table_builds"; none otherwise).
+    void table_builds(std::size_t builds) { table_builds_ = builds; }
     // Rewrites run.json with the outcome ("running", "completed", "interrupted", "failed") and the
     // last step reached; flushes the CSV streams so they are complete whatever happens next.
     // `exit_status` and `signal` (the signal that stopped the run, empty: none) go into run.json too.
@@ -86,6 +89,7 @@ private:
     std::vector<std::pair<std::string, std::unique_ptr<std::ofstream>>> probe_files_;  // by probe name
     std::vector<std::unique_ptr<std::ofstream>> body_files_;  // in Simulation::bodies() order
     std::vector<BodySample> last_bodies_;
+    std::size_t table_builds_ = 0;
     bool resumed_ = false;
     double resume_time_ = 0;
     bool writes_ = true;

@@ -139,6 +139,23 @@ TEST_CASE("--steps stops after N steps with a final frame where it stopped") {
     CHECK_FALSE(fs::exists(out + "/frame_00000.csv"));  // no --csv
 }
 
+TEST_CASE("run.list_buffer: the summary and run.json say how often the cell tables were built") {
+    const std::string out = work_dir("list_buffer");
+    std::string log;
+    const int code = run(args({{"run", scene}, tiny, {"--set", "run.list_buffer=0.2", "--steps", "60", "--every", "1", "--out", out}}), log);
+    INFO(log);
+    REQUIRE(code == 0);
+    const auto at = log.find("cell tables: built ");
+    REQUIRE(at != std::string::npos);
+    const std::size_t builds = std::stoul(log.substr(at + 19));
+    CHECK(log.find("in 60 steps", at) != std::string::npos);
+    const auto run_json = read_json(out + "/run.json");
+    CHECK(run_json.at("table_builds") == builds);
+    CHECK(builds >= 1);
+    CHECK(builds < 30);  // kept over steps: the tiny dam break moves a few mm in 60 steps
+    CHECK(run_json.at("scene").at("run").at("list_buffer") == 0.2);
+}
+
 TEST_CASE("Ctrl-C ends the run after a whole step, with a final frame") {
     const std::string out = work_dir("interrupted");
     fs::create_directories(CLSPH_CLI_WORK);
@@ -283,6 +300,10 @@ TEST_CASE("bad input: exit 1, a message naming the file and key, no output direc
         {{"run", scene, "--set", "physics.dp=0.02"}, scene + ": domain: periodic axis y"},
         {{"run", source + "/scenes/no_such_scene.json"}, source + "/scenes/no_such_scene.json: cannot read"},
         {{"run", scene, "--every", "0"}, "--every"},
+        {{"run", scene, "--set", "run.list_buffer=2"}, scene + ": run.list_buffer: must be a fraction"},
+        // Found while setting up the devices: still before any output.
+        {{"run", scene, "--set", "run.list_buffer=0.1", "--set", "physics.integrator=symplectic"},
+         scene + ": run.list_buffer: tables kept over steps are not supported with the Symplectic integrator"},
     };
     // Every file of the malformed-scene corpus (tests/scene/test_corpus.cpp checks each message).
     for (const auto& e : fs::directory_iterator(corpus))
