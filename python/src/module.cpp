@@ -268,6 +268,15 @@ PYBIND11_MODULE(_clsph, m) {
         })
         .def("cell_order", [](const Simulation& s) { return std::string(cell_order_name(s.cell_order())); },
              "The order within cells the run resolved to: \"arrival\" or \"morton\" (docs/interaction.md).")
+        .def("table_builds", [](const Simulation& s) {
+            const TableBuilds t = s.table_builds();
+            py::dict out;
+            out["builds"] = t.builds;
+            out["age"] = t.age;
+            out["moved"] = t.moved;
+            return out;
+        }, "The cell tables' builds since the start, the steps since the last and the bound on any particle's move "
+           "since then (m): every step, or fewer with run.list_buffer (docs/interaction.md).")
         .def("profile", [](Simulation& s) {
             py::dict out;
             for (const auto& k : s.profile()) out[py::str(k.name)] = out.contains(k.name) ? out[py::str(k.name)].cast<double>() + k.seconds : k.seconds;

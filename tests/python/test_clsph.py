@@ -64,6 +64,20 @@ def test_the_order_within_cells_is_asked_for_by_name_and_reported():
         clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device(), cell_order="hilbert")
 
 
+def test_kept_cell_tables_are_built_less_often_than_every_step():
+    steps = 20
+    sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
+    for _ in range(steps):
+        sim.step()
+    assert sim.table_builds()["builds"] == steps + 1  # the first, then every step
+    kept = clsph.Simulation(clsph.scene(HYDROSTATIC, ["run.list_buffer=0.2"]), devices=first_device())
+    for _ in range(steps):
+        kept.step()
+    t = kept.table_builds()
+    assert 1 <= t["builds"] < steps
+    assert t["age"] <= steps and t["moved"] >= 0
+
+
 def test_particles_are_numpy_arrays():
     sim = clsph.Simulation(clsph.scene(HYDROSTATIC), devices=first_device())
     p = sim.particles()
