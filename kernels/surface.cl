@@ -148,11 +148,15 @@ void surface_field(const uint blocks, const float spacing, const uint col_lo, co
     const float period_a = (float)g.n_a * g.cell_a, centre_a = A_OF(x0) + 0.5f * spacing * (float)SURFACE_CUBES;
     const float inv_spacing = 1.0f / spacing;
     for (uint p = lid; p < SURFACE_PER_BLOCK; p += SURFACE_WG) acc[p] = 0u;
-    // The block's rows: cells within the support of its samples' box.
+    // The block's rows: cells within the support of its samples' box. Kept cell tables
+    // (run.list_buffer) list a particle in the cell it was sorted into, up to half the buffer from
+    // where it is now; the split axis's cells are the support plus the buffer wide (never
+    // stretched), so the rows reach half that margin further (none without a buffer).
+    const float reach = support + 0.5f * fmax(g.cell_s - support, 0.0f);
     int s_lo, s_hi, a_lo, a_hi, b_lo, b_hi;
-    cell_span(S_OF(x0), S_OF(x1), support, g.cell_s, g.n_s, 0u, &s_lo, &s_hi);
-    cell_span(A_OF(x0), A_OF(x1), support, g.cell_a, g.n_a, g.periodic_a, &a_lo, &a_hi);
-    cell_span(B_OF(x0), B_OF(x1), support, g.cell_b, g.n_b, 0u, &b_lo, &b_hi);
+    cell_span(S_OF(x0), S_OF(x1), reach, g.cell_s, g.n_s, 0u, &s_lo, &s_hi);
+    cell_span(A_OF(x0), A_OF(x1), reach, g.cell_a, g.n_a, g.periodic_a, &a_lo, &a_hi);
+    cell_span(B_OF(x0), B_OF(x1), reach, g.cell_b, g.n_b, 0u, &b_lo, &b_hi);
     const int na = a_hi - a_lo + 1;
     const uint rows = (s_hi >= s_lo && na > 0 && b_lo <= b_hi) ? (uint)((s_hi - s_lo + 1) * na) : 0u;
     for (uint batch = 0; batch < rows; batch += SURFACE_WG) {

@@ -194,3 +194,74 @@ TEST_CASE("a surface taken with capacities too small redoes and gives the same m
     }
 }
 }
+
+TEST_SUITE("surface") {
+TEST_CASE("the surface's field on kept cell tables (run.list_buffer): particles moved since the sort still counted, as the probes count them") {
+    // Cells the buffer wider; every fluid particle moved in place (its offset from the cell it was
+    // sorted into) by up to 0.45 of half the buffer, as kept tables hold them before the next build.
+    // A block's rows must reach that much further than the support (kernels/surface.cl).
+    Scene scene = test::small_tank(0.3, 0.2);
+    scene.domain.max[1] = 0.34;
+    scene.walls[0].max[1] = 0.3;
+    scene.fluids[0].max[1] = 0.3;
+    scene.run.list_buffer = 1.0;  // the largest: a move of up to 0.225 supports, which the kernel weighs
+    auto rng = test::rng(0x5e7fac2);
+    const Particles particles = random_cloud(scene, rng);
+    const BlockLattice L = lattice_of(scene);
+    const double support = scene.physics.support(), step = 0.45 * 0.5 * scene.run.list_buffer * support;
+    device::Grid grid(device::Box{scene.domain.min, scene.domain.max}, support * (1 + scene.run.list_buffer), 0,
+                      scene.domain.periodic);
+    for (auto* d : test::devices()) {
+        CAPTURE(d->label());
+        device::Physics phys(*d, grid, scene);
+        device::CellPipeline cells(*d, grid);
+        device::ParticleStore ps(*d, grid, particles.size());
+        ps.upload(particles);
+        cells.run(ps);
+        const std::size_t n = ps.ranges.active();
+        const Particles sorted = ps.download();
+        std::vector<float> pos(4 * n);
+        d->read(ps.pos, pos.data(), pos.size());
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (sorted.type[i] != ParticleType::fluid) continue;
+            std::array<double, 3> v{u(rng), u(rng), u(rng)};
+            const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            for (int k = 0; k < 3; ++k) pos[4 * i + k] += static_cast<float>(v[k] * step / std::max(len, 1.0));
+        }
+        d->write(ps.pos, pos.data(), pos.size());
+        std::vector<std::array<double, 3>> fluid;
+        const Particles moved = ps.download();
+        for (std::size_t i = 0; i < moved.size(); ++i)
+            if (moved.type[i] == ParticleType::fluid) fluid.push_back(moved.position[i]);
+        const auto full = static_cast<std::uint32_t>(std::ceil(0.9 * std::pow(L.edge() / scene.physics.dp, 3)));
+        const auto want = active_blocks_reference(fluid, L, full);
+        REQUIRE(want.size() > 20);
+        DeviceSurface s(*d, grid, phys, L, SurfaceCapacity{want.size() + 7, 0, 0});
+        s.count(ps);
+        s.activate(full);
+        REQUIRE(s.active_blocks(full) == want.size());
+        s.sample(ps, cells, 0, grid.params().n_s);
+        double worst = 0, largest = 0;
+        for (std::size_t slot = 0; slot < want.size(); ++slot) {
+            const auto c = L.coords(want[slot]);
+            std::vector<std::array<double, 3>> points;
+            for (std::uint32_t z = 0; z < kBlockSamples; ++z)
+                for (std::uint32_t y = 0; y < kBlockSamples; ++y)
+                    for (std::uint32_t x = 0; x < kBlockSamples; ++x)
+                        points.push_back({L.origin[0] + L.spacing * (c[0] * kBlockCubes + x),
+                                          L.origin[1] + L.spacing * (c[1] * kBlockCubes + y),
+                                          L.origin[2] + L.spacing * (c[2] * kBlockCubes + z)});
+            const auto ref = phys.probe(ps, cells, points);
+            const auto got = s.read_block(slot);
+            for (std::size_t q = 0; q < points.size(); ++q) {
+                worst = std::max(worst, std::abs(double(got[q]) - double(ref[q][0])));
+                largest = std::max(largest, double(ref[q][0]));
+            }
+        }
+        MESSAGE("field of all " << want.size() << " active blocks: largest fraction " << largest << ", worst difference " << worst);
+        CHECK(largest > 0.5);
+        CHECK(worst < 1e-4);
+    }
+}
+}
