@@ -53,6 +53,32 @@ BlockLattice lattice_of(const Scene& scene) {
     return L;
 }
 
+// The field of the blocks in `slots` (indices into the active keys `want`) against the probes at
+// the same sample points: the worst difference and the largest fraction seen.
+std::pair<double, double> field_against_probes(DeviceSurface& s, device::Physics& phys, device::ParticleStore& ps,
+                                               device::CellPipeline& cells, const BlockLattice& L,
+                                               const std::vector<std::uint32_t>& want,
+                                               const std::vector<std::size_t>& slots) {
+    double worst = 0, largest = 0;
+    for (const auto slot : slots) {
+        const auto c = L.coords(want[slot]);
+        std::vector<std::array<double, 3>> points;
+        for (std::uint32_t z = 0; z < kBlockSamples; ++z)
+            for (std::uint32_t y = 0; y < kBlockSamples; ++y)
+                for (std::uint32_t x = 0; x < kBlockSamples; ++x)
+                    points.push_back({L.origin[0] + L.spacing * (c[0] * kBlockCubes + x),
+                                      L.origin[1] + L.spacing * (c[1] * kBlockCubes + y),
+                                      L.origin[2] + L.spacing * (c[2] * kBlockCubes + z)});
+        const auto ref = phys.probe(ps, cells, points);
+        const auto got = s.read_block(slot);
+        for (std::size_t q = 0; q < points.size(); ++q) {
+            worst = std::max(worst, std::abs(double(got[q]) - double(ref[q][0])));
+            largest = std::max(largest, double(ref[q][0]));
+        }
+    }
+    return {worst, largest};
+}
+
 }  // namespace
 
 TEST_SUITE("surface") {
@@ -116,23 +142,7 @@ TEST_CASE("the surface's active blocks and their field on the device, as plain C
         REQUIRE(it != want.end());
         REQUIRE(*it == wet_key);
         slots.push_back(static_cast<std::size_t>(it - want.begin()));
-        double worst = 0, largest = 0;
-        for (const auto slot : slots) {
-            const auto c = L.coords(want[slot]);
-            std::vector<std::array<double, 3>> points;
-            for (std::uint32_t z = 0; z < kBlockSamples; ++z)
-                for (std::uint32_t y = 0; y < kBlockSamples; ++y)
-                    for (std::uint32_t x = 0; x < kBlockSamples; ++x)
-                        points.push_back({L.origin[0] + L.spacing * (c[0] * kBlockCubes + x),
-                                          L.origin[1] + L.spacing * (c[1] * kBlockCubes + y),
-                                          L.origin[2] + L.spacing * (c[2] * kBlockCubes + z)});
-            const auto ref = phys.probe(ps, cells, points);
-            const auto got = s.read_block(slot);
-            for (std::size_t q = 0; q < points.size(); ++q) {
-                worst = std::max(worst, std::abs(double(got[q]) - double(ref[q][0])));
-                largest = std::max(largest, double(ref[q][0]));
-            }
-        }
+        const auto [worst, largest] = field_against_probes(s, phys, ps, cells, L, want, slots);
         MESSAGE("field of " << slots.size() << " blocks: largest fraction " << largest << ", worst difference " << worst);
         CHECK(largest > 0.5);
         CHECK(worst < 1e-4);
@@ -242,23 +252,9 @@ TEST_CASE("the surface's field on kept cell tables (run.list_buffer): particles 
         s.activate(full);
         REQUIRE(s.active_blocks(full) == want.size());
         s.sample(ps, cells, 0, grid.params().n_s);
-        double worst = 0, largest = 0;
-        for (std::size_t slot = 0; slot < want.size(); ++slot) {
-            const auto c = L.coords(want[slot]);
-            std::vector<std::array<double, 3>> points;
-            for (std::uint32_t z = 0; z < kBlockSamples; ++z)
-                for (std::uint32_t y = 0; y < kBlockSamples; ++y)
-                    for (std::uint32_t x = 0; x < kBlockSamples; ++x)
-                        points.push_back({L.origin[0] + L.spacing * (c[0] * kBlockCubes + x),
-                                          L.origin[1] + L.spacing * (c[1] * kBlockCubes + y),
-                                          L.origin[2] + L.spacing * (c[2] * kBlockCubes + z)});
-            const auto ref = phys.probe(ps, cells, points);
-            const auto got = s.read_block(slot);
-            for (std::size_t q = 0; q < points.size(); ++q) {
-                worst = std::max(worst, std::abs(double(got[q]) - double(ref[q][0])));
-                largest = std::max(largest, double(ref[q][0]));
-            }
-        }
+        std::vector<std::size_t> slots(want.size());
+        for (std::size_t k = 0; k < slots.size(); ++k) slots[k] = k;
+        const auto [worst, largest] = field_against_probes(s, phys, ps, cells, L, want, slots);
         MESSAGE("field of all " << want.size() << " active blocks: largest fraction " << largest << ", worst difference " << worst);
         CHECK(largest > 0.5);
         CHECK(worst < 1e-4);
