@@ -6,15 +6,42 @@
 // clock[0] time before the step under way      clock[1] its dt (dt_f: the same as float)
 // clock[2] the next CFL step, not yet clamped
 // clock[3] the event the run lands on (a frame, --until; +inf: none)
+// clock[4] run.list_buffer: how far any particle may have moved since the cell tables were built
+//          (multi/list_schedule.hpp, the same bound in the same arithmetic)
 // *halt    non-zero: every kernel that changes the state does nothing (an event reached, the cell
 //          tables overflowed, a particle failed the checks); the host clears it
 // records  a ring of step records, one per slot of the host's ring (StepRecord::from)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
+// No a * b + c fused into one rounding: the host's arithmetic is separate multiplies and adds.
+#pragma OPENCL FP_CONTRACT OFF
 
 #define HALT_EVENT 1u
 #define HALT_BAD 2u
 #define HALT_CELLS 4u
+#define HALT_LISTS 8u
 #define NO_PARTICLE 0xffffffffu
+
+// Several devices (docs/multi_device.md, "The step ahead on several devices"): this device's part
+// of what every device's end_step needs from all of them, at sums[at]: max |v|^2 and max |a|^2 over
+// its kick's groups, and 1 where it holds a failed particle. Maxima are exact in any order.
+#ifndef CLOCK_WG
+#define CLOCK_WG 1
+#endif
+__kernel void step_sums(const uint groups, __global const float4* partials, __global const uint* bad,
+                        __global float4* sums, const uint at) {
+    __local float2 m[CLOCK_WG];
+    const uint lid = get_local_id(0);
+    float2 mine = (float2)(0.0f, 0.0f);
+    for (uint g = lid; g < groups; g += CLOCK_WG) {
+        const float4 p = partials[g];
+        mine = (float2)(fmax(mine.x, p.x), fmax(mine.y, p.y));
+    }
+    m[lid] = mine;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid != 0u) return;
+    for (uint k = 1u; k < CLOCK_WG; ++k) mine = (float2)(fmax(mine.x, m[k].x), fmax(mine.y, m[k].y));
+    sums[at] = (float4)(mine.x, mine.y, *bad == NO_PARTICLE ? 0.0f : 1.0f, 0.0f);
+}
 
 // After the kick: the reductions over its work-groups, time advanced, the next CFL step and the
 // next step's dt (the CFL step shortened to land on the event, as run_until does on the host;
@@ -27,11 +54,12 @@
 #define CLOCK_WG 1
 #endif
 __kernel void end_step(const uint groups, const double cfl, const double h, const double c0, const double fixed_dt,
-                       const double dt_floor, const double dt_viscous,
+                       const double dt_floor, const double dt_viscous, const double half_buffer,
                        __global const float4* partials, __global uint* bad, __global const uint* ids,
                        __global const float4* velrho, __global uint* settle_counters,
                        __global const uint* cell_count, __global double* clock, __global float* dt_f,
-                       __global uint* halt, __global double* records, const uint slot) {
+                       __global uint* halt, __global double* records, const uint slot,
+                       __global const float4* sums, const uint slabs) {
     __local float4 tile[CLOCK_WG];
     const uint lid = get_local_id(0);
     __global double* record = records + slot * 17u;  // StepRecord::kDoubles
@@ -58,10 +86,19 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
         barrier(CLK_LOCAL_MEM_FENCE);
     }
     if (lid != 0u) return;
+    const uint b = *bad;
+    double gv = vmax2, ga = amax2;  // over every device
+    bool failed = b != NO_PARTICLE;
+    for (uint s = 0u; s < slabs; ++s) {
+        const float4 q = sums[slot * slabs + s];
+        gv = s == 0u ? (double)q.x : fmax(gv, (double)q.x);
+        ga = s == 0u ? (double)q.y : fmax(ga, (double)q.y);
+        failed = failed || q.z != 0.0f;
+    }
     double next = fixed_dt;
     if (!(fixed_dt > 0.0)) {
         // Monaghan's force and acoustic (CFL) limits: dt = cfl min(sqrt(h/|a|max), h/(c0 + |v|max)).
-        const double amax = sqrt(amax2), vmax = sqrt(vmax2);
+        const double amax = sqrt(ga), vmax = sqrt(gv);
         const double dt_force = amax > 0.0 ? sqrt(h / amax) : INFINITY;
         const double dt_sound = h / (c0 + vmax);
         next = fmin(cfl * fmin(dt_force, dt_sound), dt_viscous);  // dt_viscous: infinity, or 0.125 h^2 / nu
@@ -70,7 +107,6 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
     clock[0] = t;
     clock[2] = next;
     const double dt_next = fmin(next, fmax(clock[3] - t, 1e-12));
-    const uint b = *bad;
     record[0] = t;
     record[1] = clock[1];  // before it becomes the next step's
     record[2] = vmax2;
@@ -95,6 +131,12 @@ __kernel void end_step(const uint groups, const double cfl, const double h, cons
     *bad = NO_PARTICLE;
     // A failed particle or a collapsed step (the host reports both): nothing after it may change
     // the state the host stops at.
-    if (b != NO_PARTICLE || next < dt_floor) *halt = HALT_BAD;
+    if (failed || next < dt_floor) *halt = HALT_BAD;
     else if (!(t < clock[3] - 1e-12)) *halt = HALT_EVENT;
+    else if (half_buffer > 0.0) {
+        // The next step's bound (ListSchedule::due): (|v| + |a| dt / 2) dt, a relative 1e-6 more.
+        const double moved = clock[4] + (sqrt(gv) + 0.5 * sqrt(ga) * dt_next) * dt_next * (1.0 + 1e-6);
+        if (moved < half_buffer) clock[4] = moved;
+        else *halt = HALT_LISTS;  // NaN included
+    }
 }

@@ -6,6 +6,7 @@
 #include "clsph/devices.hpp"
 #include "clsph/error.hpp"
 #include "clsph/simulation.hpp"
+#include "clsph/testing.hpp"
 #include "support/bitwise_state.hpp"
 #include "support/scenes.hpp"
 
@@ -32,6 +33,18 @@ std::string one_pocl_device() {
     }
     REQUIRE_MESSAGE(!pick.empty(), "no pocl device");
     return pick;
+}
+
+// pocl devices (they have cl_khr_fp64, which the step ahead needs) whose name starts with `kind`
+// ("": every one), as a --devices spec.
+std::string pocl_devices(const std::string& kind, std::size_t* count) {
+    std::string spec;
+    std::size_t n = 0;
+    for (const auto& d : list_devices())
+        if (d.platform.find("Portable") != std::string::npos && d.fp64 && d.name.rfind(kind, 0) == 0)
+            spec += (n++ ? "," : "") + std::to_string(d.index);
+    *count = n;
+    return spec;
 }
 
 Options options(bool synchronous) {
@@ -248,5 +261,73 @@ TEST_CASE("--steps: with a step limit the callback that stops the run finds no s
     CHECK(steps[0] == 45);
     CHECK(steps[1] == 45);
     CHECK(differing(states[0], states[1]) == 0);
+}
+
+// The step ahead on several devices (docs/multi_device.md): with the cell tables kept, every device
+// takes the step its clock chose from every device's reductions (copied device to device), the
+// ghosts come from their owners without the host, and a step that must build the tables halts
+// them all and is taken synchronously. Against the synchronous path on one device: the same steps,
+// builds, probes, frames and particles. On the pocl devices there are (separate contexts: the copies
+// staged through the host by the relay's thread) and on one device opened as three slabs (one
+// context: copies on the devices' queues).
+TEST_CASE("tables kept over steps: steps ahead on several devices and slabs take the synchronous steps, builds and particles bitwise") {
+    Scene scene = probed_dam();
+    scene.run.list_buffer = 0.1;  // half of it is a few steps' travel as the water falls: builds all along
+    // The period 10 dp instead of 8: three cells of a support and the buffer.
+    const double dp = scene.physics.dp;
+    scene.domain.max[1] = 10 * dp;
+    scene.walls.front().max[1] = 9 * dp;
+    scene.fluids.front().max[1] = 9.5 * dp;
+    scene.domain.split_axis = 0;
+    auto sync = make(scene, options(true));
+    CHECK_FALSE(sync->steps_ahead());
+    const double every = 0.004, until = 0.0173;
+    const Run want = run(*sync, every, until);
+    const TableBuilds want_builds = sync->table_builds();
+    MESSAGE(want_builds.builds << " builds in " << want.steps.size() << " steps");
+    REQUIRE(want_builds.builds > 3);                        // rebuilt when due ...
+    REQUIRE(want_builds.builds < want.steps.size() / 2);   // ... and kept in between
+    // ahead: whether the steps run ahead (pocl's basic device keeps several devices synchronous:
+    // cl/quirks.hpp user_events_stop), with the same results either way.
+    struct Case { std::string name, devices; std::size_t slabs; bool ahead; };
+    std::vector<Case> cases = {{"one device", one_pocl_device(), 1, true},
+                               {"three slabs of one device", one_pocl_device(), 3, true}};
+    std::size_t threaded = 0, all = 0;
+    const std::string threaded_spec = pocl_devices("pthread", &threaded), all_spec = pocl_devices("", &all);
+    if (threaded >= 2) cases.push_back({std::to_string(threaded) + " pthread devices", threaded_spec, 1, true});
+    else MESSAGE("fewer than two pthread devices: the copies across contexts are tested in multi_bitwise");
+    if (all > threaded && all >= 2) cases.push_back({"every pocl device, a basic one among them", all_spec, 1, false});
+    for (const auto& c : cases) {
+        CAPTURE(c.name);
+        Options o = options(false);
+        o.devices = c.devices;
+        o.balance = BalanceMode::fixed;  // the same cuts in both runs (the probes depend on them, below)
+        if (c.slabs > 1) {
+            testing::Seams seams;
+            seams.slabs = c.slabs;
+            testing::set_seams(o, seams);
+        }
+        auto ahead = make(scene, o);
+        REQUIRE(ahead->steps_ahead() == c.ahead);
+        const Run got = run(*ahead, every, until);
+        // Probes near a cut read the ghosts as copied after the drift (before the kick), so on
+        // several slabs they differ from one device's in the last bits, and with the cuts: against
+        // the synchronous run on the same slabs and cuts.
+        o.synchronous = true;
+        auto same_slabs = make(scene, o);
+        const Run sync_probes = run(*same_slabs, every, until);
+        REQUIRE(got.steps.size() == want.steps.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < want.steps.size(); ++i)
+            differ += std::memcmp(want.steps[i].data(), got.steps[i].data(), sizeof want.steps[i]) != 0;
+        CHECK(differ == 0);
+        CHECK(ahead->table_builds().builds == want_builds.builds);
+        CHECK(ahead->table_builds().age == want_builds.age);
+        CHECK(got.frame_times == want.frame_times);
+        REQUIRE(got.probes.size() == sync_probes.probes.size());
+        CHECK(std::memcmp(got.probes.data(), sync_probes.probes.data(), got.probes.size() * sizeof(double)) == 0);
+        REQUIRE(got.frames.size() == want.frames.size());
+        for (std::size_t f = 0; f < want.frames.size(); ++f) CHECK(differing(want.frames[f], got.frames[f]) == 0);
+    }
 }
 }

@@ -32,6 +32,7 @@ Quirks quirks_for(const DeviceInfo& info) {
     if (nvidia) q.interaction_options = "-cl-nv-maxrregcount=48";
     const bool pocl = contains_ci(info.platform, "portable computing language") || contains_ci(info.platform, "pocl");
     if (pocl) q.build_salt = "-DCLSPH_POCL_DEVICE=" + std::to_string(info.index);
+    q.user_events_stop = pocl && info.name.rfind("basic", 0) == 0;
     // Keep 1 KiB of the reported local memory free for the driver (pocl and NVIDIA place kernel
     // arguments or barriers there on some versions).
     const std::size_t reported = static_cast<std::size_t>(info.local_memory);

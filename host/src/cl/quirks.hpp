@@ -62,6 +62,15 @@ struct Quirks {
     // depth pass (0 of 72,011 pixels of a sphere; a plain min or an atomic_cmpxchg loop drew all of
     // them: tests/device/test_render.cpp). Where set, the depth pass uses the compare-and-swap loop.
     bool atomic_min_unreliable = false;
+
+    // --- found while running steps ahead on several devices (issue 33) ---
+    // pocl 3.1 (Debian 12), the basic device: completing a user event (clSetUserEventStatus) runs
+    // the commands waiting for it on the calling thread, which then waits for a lock pocl holds
+    // there: the process stops, the enqueueing thread waiting for the same lock (a basic and a
+    // pthread device, the ghosts' copies of the step ahead: tests/device/test_step_ahead.cpp).
+    // The pthread device does not. Where set, the step ahead on several devices, whose copies
+    // across contexts complete user events (cl/relay.hpp), stays off (the synchronous step).
+    bool user_events_stop = false;
 };
 
 Quirks quirks_for(const DeviceInfo& info);

@@ -42,6 +42,12 @@ CellPipeline::CellPipeline(cl_rt::Device& device, const Grid& grid, bool fused)
     reserve_cells(0);  // grown to the first count (with the headroom) by the first tables
 }
 
+void CellPipeline::store_count() {
+    if (counted_on_device_) return;  // (there already)
+    const cl_uint k[2] = {cl_rt::checked_uint(cells_), cl_rt::checked_uint(cells_)};
+    device_.write(cell_count_, k, 2);
+}
+
 void CellPipeline::reserve_cells(std::size_t k) {
     if (k <= cell_capacity_ && cell_key_) return;
     const std::size_t cap = sizing::cell_capacity(k, cell_headroom_);

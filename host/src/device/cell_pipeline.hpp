@@ -164,6 +164,9 @@ public:
     void grow_cells(std::size_t k) { reserve_cells(k); }
     // The count as the host learnt it (the step ahead): probes read the tables with it.
     void set_counted_cells(std::size_t k) { cells_ = std::min(k, cell_capacity_); }
+    // Tables the host counted (built synchronously), kept by steps ahead: their count put where
+    // the kernels that read it on the device (the probes in the queue, end_step's record) find it.
+    void store_count();
     // The order within cells (clsph/interaction.hpp; never automatic): with morton every build of
     // the tables first sorts each cell's particles along the sub-cell Morton curve (order_within_cells),
     // moving every array once more (kernels/cell_order.cl, built by set_order); arrival (the

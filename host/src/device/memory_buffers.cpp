@@ -232,6 +232,8 @@ DeviceMemoryPlan buffers_of(const Context& c, const Share& s, std::size_t d, std
     if (scene::has_outlet_zones(c.scene)) add("outlet zones", device::OutletZones::bytes(c.scene), false);
     if (c.ahead) {
         add("step records", c.options.steps_ahead * sz::kStepRecordDoubles * sizeof(double), false);
+        // physics.cpp set_slabs(): each device's part of the reductions, per device and step in flight.
+        if (c.slabs > 1) add("step sums of every device", c.options.steps_ahead * c.slabs * 4 * sizeof(float), false);
     }
     return x;
 }
@@ -284,8 +286,9 @@ MemoryPlan plan_slabs(const Scene& scene, const MemoryCensus& census, const std:
     const std::vector<Share> shares = split_shares(scene, census, D, options, apart);
     // The step ahead as Simulation decides it (multi/slab_driver.hpp can_step_ahead()).
     const bool ahead = !devices.empty() && scene.inlets.empty() && !scene::has_outlet_zones(scene) &&  // synchronous steps
-                       sz::step_ahead(options.synchronous, options.steps_ahead, D, devices[0].fp64,
-                                      scene.physics.integrator == Integrator::symplectic);
+                       std::all_of(devices.begin(), devices.end(), [](const DeviceInfo& d) { return d.fp64; }) &&
+                       sz::step_ahead(options.synchronous, options.steps_ahead, D, true,
+                                      scene.physics.integrator == Integrator::symplectic, scene.run.list_buffer > 0);
     const Context c{scene,
                     devices,
                     options,

@@ -126,6 +126,7 @@ Physics::Physics(cl_rt::Device& device, const Grid& grid, const Scene& scene, In
     if (has_clock_) {
         clock_wg_ = device.work_group_size(64);  // one work-group stages the kick's partials (step_clock.cl)
         end_k_ = device.kernel("step_clock.cl", "end_step", "-DCLOCK_WG=" + std::to_string(clock_wg_));
+        sums_k_ = device.kernel("step_clock.cl", "step_sums", "-DCLOCK_WG=" + std::to_string(clock_wg_));
         clock_ = device.alloc(sizing::kClockDoubles * sizeof(double), "step clock");
         device.fill(bad_, cl_uint{0xffffffffu}, 1);
     }
@@ -284,19 +285,32 @@ void Physics::enqueue_kick_on_clock(ParticleStore& ps) {
     ps.accel.swap(ps.scratch);
 }
 
-void Physics::set_clock(double time, double next_dt, double event) {
+void Physics::set_clock(double time, double next_dt, double event, double moved) {
     // The first step's dt as end_step computes the ones after it (and run_until on the host).
     const double dt = std::min(next_dt, std::max(event - time, 1e-12));
-    clock_host_.resize(device_, 4);
+    clock_host_.resize(device_, sizing::kClockDoubles);
     clock_host_[0] = time;
     clock_host_[1] = dt;
     clock_host_[2] = next_dt;
     clock_host_[3] = event;
-    device_.write(clock_, clock_host_.data(), 4);
+    clock_host_[4] = moved;  // run.list_buffer: the bound on any particle's move since the tables were built
+    device_.write(clock_, clock_host_.data(), sizing::kClockDoubles);
     const float f = static_cast<float>(dt);
     device_.write(dt_f_, &f, 1);
     dt_written_valid_ = false;  // the clock writes dt_f from here on
     clear_halt();
+}
+
+void Physics::set_slabs(std::size_t slabs, std::size_t slots) {
+    slabs_ = slabs > 1 ? slabs : 0;
+    if (slabs_ == 0 || sums_.bytes() >= slabs_ * slots * kStepSumBytes) return;
+    sums_ = cl_rt::Buffer();
+    sums_ = device_.alloc(slabs_ * slots * kStepSumBytes, "step sums of every device");
+}
+
+void Physics::enqueue_step_sums(std::size_t slot, std::size_t self) {
+    cl_rt::set_args(sums_k_, kick_groups_, partials_, bad_, sums_, slot * slabs_ + self);
+    device_.launch("clock.sums", sums_k_, clock_wg_, clock_wg_);
 }
 
 void Physics::clear_halt() { device_.fill(halt_, cl_uint{0}, 1); }
@@ -316,11 +330,15 @@ void Physics::enqueue_end_step(const ParticleStore& ps, const CellPipeline& cell
     end_k_.setArg(i++, fixed_dt_);
     end_k_.setArg(i++, dt_floor_);
     end_k_.setArg(i++, dt_viscous_);
+    end_k_.setArg(i++, half_buffer_);
     for (const cl_rt::Buffer* b : std::initializer_list<const cl_rt::Buffer*>{
              &partials_, &bad_, &ps.id, &ps.velrho, &cells.settle_counters(), &cells.cell_count(), &clock_, &dt_f_,
              &halt_, &record_})
         end_k_.setArg(i++, b->get());
     end_k_.setArg(i++, cl_rt::checked_uint(slot));
+    if (slabs_ > 0 && sums_.bytes() == 0) throw Error("end_step: the step sums were not set up (set_slabs)");
+    end_k_.setArg(i++, slabs_ > 0 ? sums_.get() : halt_.get());  // (any buffer where none is read)
+    end_k_.setArg(i++, cl_rt::checked_uint(slabs_));
     device_.launch("clock.end", end_k_, clock_wg_, clock_wg_);
     // The record comes back on the transfer queue, after a marker: the compute queue goes on with
     // the next step instead of waiting for the copy (each slot has its own record on the device,

@@ -44,7 +44,8 @@ struct StepRecord {
     std::size_t left_domain = 0, jumped = 0, cells = 0;  // from settle and the bounded tables
     static StepRecord from(const double* raw);
 };
-constexpr unsigned kHaltEvent = 1, kHaltBad = 2, kHaltCells = 4;
+// kHaltLists: run.list_buffer, the next step must build the cell tables (the host takes it).
+constexpr unsigned kHaltEvent = 1, kHaltBad = 2, kHaltCells = 4, kHaltLists = 8;
 
 class Physics {
 public:
@@ -138,12 +139,24 @@ public:
     // steps bitwise. set_clock: time, the next CFL step and the event to land on (the first step's
     // dt from them; end_step chooses each next one); clears the halt.
     bool has_clock() const { return has_clock_; }
-    void set_clock(double time, double next_dt, double event);
+    void set_clock(double time, double next_dt, double event, double moved = 0.0);
     void clear_halt();
     // The reductions, the clock advanced, the record of ring slot `slot` read into `record`
     // (StepRecord::kDoubles doubles of pinned memory that must stay put until `done` is waited for).
     void enqueue_end_step(const ParticleStore& ps, const CellPipeline& cells, std::size_t slot, double* record,
                           cl_rt::EventSet& done);
+    // The step ahead on several devices (docs/multi_device.md): `slabs` devices, `slots` steps in
+    // flight. Each device's step_sums (kernels/step_clock.cl) after its kick puts its part of the
+    // reductions at step_sums()[slot * slabs + self]; the other devices' parts are copied in before
+    // end_step, which then takes the step every device takes. slabs 0: one device, no copies.
+    void set_slabs(std::size_t slabs, std::size_t slots);
+    void enqueue_step_sums(std::size_t slot, std::size_t self);
+    cl_rt::Buffer& step_sums() { return sums_; }
+    static constexpr std::size_t kStepSumBytes = 4 * sizeof(float);
+    // run.list_buffer: half the buffer, m (0: off); end_step halts with kHaltLists before a step
+    // that must build the tables (multi/list_schedule.hpp: the same bound), which set_clock starts
+    // from `moved` (the host's ListSchedule::moved()).
+    void set_half_buffer(double half) { half_buffer_ = half; }
     const cl_rt::Buffer& halt() const { return halt_; }
     // The step ahead's first kick and drift as the cell pass runs it in its first launch
     // (CellPipeline::enqueue_drift_sort_keys): the clock's dt, rho0, the halt flag.
@@ -205,7 +218,10 @@ private:
     cl::Kernel forces_k_, density_k_, commit_k_, kick_drift_k_, kick_k_, probe_k_;
     cl_rt::Buffer partials_, bad_, probe_in_, probe_out_;
     cl_rt::Buffer dt_f_, halt_, clock_, record_;
-    cl::Kernel end_k_, probe_counted_k_;
+    cl::Kernel end_k_, sums_k_, probe_counted_k_;
+    cl_rt::Buffer sums_;
+    std::size_t slabs_ = 0;
+    double half_buffer_ = 0;
     std::size_t clock_wg_ = 1;  // the clock kernel's work-group
     cl_rt::Buffer fixed_in_, fixed_out_;
     std::size_t fixed_points_ = 0;

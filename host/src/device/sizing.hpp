@@ -16,7 +16,7 @@ inline constexpr std::size_t kParticleBytes = 3 * kFloat4 + kUint;
 // The step ahead's record of one step (device::StepRecord), in doubles.
 inline constexpr std::size_t kStepRecordDoubles = 17;
 // The step clock's doubles (physics.cpp, with cl_khr_fp64 only).
-inline constexpr std::size_t kClockDoubles = 4;
+inline constexpr std::size_t kClockDoubles = 5;
 // Floats per kick reduction group (physics.cpp).
 inline constexpr std::size_t kKickFloats = 4;
 // Digits of the cell sort's radix passes (RadixSort::Config::digit_bits).
@@ -129,9 +129,12 @@ inline std::size_t sort_count_entries(std::size_t n, std::size_t tile, unsigned 
 inline std::size_t borrowed_elements(std::size_t n) { return 2 * ((n + 63) / 64 * 64); }
 
 // Whether the step ahead runs (docs/multi_device.md): not --synchronous, some steps ahead, one
-// slab, a step clock (which needs cl_khr_fp64) and Leap-frog (a Symplectic step has two exchanges).
-inline bool step_ahead(bool synchronous, std::size_t steps_ahead, std::size_t slabs, bool fp64, bool symplectic) {
-    return !synchronous && steps_ahead > 0 && slabs == 1 && fp64 && !symplectic;
+// slab or the cell tables kept over steps (run.list_buffer: the steps ahead keep them, the builds
+// are synchronous), a step clock on every device (which needs cl_khr_fp64) and Leap-frog (a
+// Symplectic step has two exchanges).
+inline bool step_ahead(bool synchronous, std::size_t steps_ahead, std::size_t slabs, bool fp64, bool symplectic,
+                       bool kept_tables = false) {
+    return !synchronous && steps_ahead > 0 && (slabs == 1 || kept_tables) && fp64 && !symplectic;
 }
 
 }  // namespace clsph::device::sizing

@@ -120,6 +120,44 @@ void Exchange::keep(const PerDevice& then, const PerDevice& before) {
     });
 }
 
+void Exchange::prepare_keep_ahead() {
+    if (slabs_.size() < 2) return;
+    for (const auto& p : refreshes()) {
+        if (cl_rt::Relay::same_context(*slabs_[p.d].device, *slabs_[p.e].device)) continue;
+        auto& staging = refresh_staging_[{p.d, p.e}];
+        if (!staging) staging = std::make_unique<cl_rt::PinnedHost>();
+        staging->reserve(*slabs_[p.d].device, p.n * device::ParticleArrays::kBytesPerParticle);
+    }
+}
+
+void Exchange::keep_ahead(cl_rt::Relay* relay, const PerDevice& then, const PerDevice& before) {
+    const std::vector<Refresh> parts = slabs_.size() > 1 ? refreshes() : std::vector<Refresh>{};
+    if (!parts.empty() && !relay) throw Error("internal: the ghosts' copies ahead without a relay");
+    for (std::size_t d = 0; d < slabs_.size(); ++d) before(d);
+    for (const auto& p : parts) {
+        auto& staging = refresh_staging_[{p.d, p.e}];
+        if (!staging) staging = std::make_unique<cl_rt::PinnedHost>();
+        Slab& s = slabs_[p.d];
+        Slab& r = slabs_[p.e];
+        std::vector<std::pair<const cl_rt::Buffer*, std::size_t>> src;
+        s.store->each([&](const cl_rt::Buffer& b, std::size_t elem, const char*) { src.push_back({&b, elem}); });
+        std::vector<cl_rt::Relay::Piece> pieces;
+        std::size_t k = 0;
+        r.store->each([&](cl_rt::Buffer& b, std::size_t elem, const char*) {
+            pieces.push_back({src[k++].first, &b, p.n * elem, p.first * elem, p.to * elem});
+        });
+        // A staging block per pair serves every step: the sender's next read comes after its next
+        // drift, which waits for this step's end on every device (the step sums), and the receiver's
+        // write of this one comes before its force pass, hence before its step sums.
+        relay->copy(*s.device, *r.device, pieces, *staging);
+        r.received_bytes += p.n * device::ParticleArrays::kBytesPerParticle;
+    }
+    for (std::size_t e = 0; e < slabs_.size(); ++e) {
+        slabs_[e].interior_first = slabs_[e].interior_end = 0;  // the force pass whole
+        then(e);
+    }
+}
+
 std::size_t Exchange::run(const PerDevice& then, const Particles* created, const PerDevice& before) {
     const std::size_t D = slabs_.size();
     need_ = partition_.needs(slabs_);

@@ -20,6 +20,7 @@
 // column (which the CFL limit rules out) makes every device send from its whole slab instead.
 #pragma once
 #include "cl/async.hpp"
+#include "cl/relay.hpp"
 #include "multi/link.hpp"
 #include "multi/ranks.hpp"
 #include "multi/partition.hpp"
@@ -69,6 +70,13 @@ public:
     // settle, no sort; each device runs before(d), its ghosts are brought up to date from their
     // owners (the same particles, in the same places, as the last run() left them), then then(d).
     void keep(const PerDevice& then, const PerDevice& before = {});
+    // keep() with no host wait (the step ahead on several devices): every device's before(d), the
+    // ghosts' copies through `relay` (which orders them on the devices' queues), then(d) — all
+    // enqueued from this thread. One device: no copies, `relay` may be null.
+    void keep_ahead(cl_rt::Relay* relay, const PerDevice& then, const PerDevice& before);
+    // With nothing in flight, before steps ahead: the staging keep_ahead's copies across contexts
+    // will use, made (mapping pinned memory waits for the device's queue).
+    void prepare_keep_ahead();
     // The halo overlapped with the interior's forces. Where allowed(d) and a device's merge sorts
     // only its edges, the tables of what it kept are built as soon as it has moved them into
     // sorted order, and run(d, first, last) enqueues the force pass of particles [first, last):

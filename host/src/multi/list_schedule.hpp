@@ -15,6 +15,7 @@ public:
     // half_buffer: half the margin, m (0: tables built every step).
     explicit ListSchedule(double half_buffer = 0) : half_buffer_(half_buffer) {}
     bool on() const { return half_buffer_ > 0; }
+    double half_buffer() const { return half_buffer_; }
     // Before a step of dt: whether the tables must be built after its drift, from the largest
     // squared speed and acceleration the last step's reductions gave (any particle may move by
     // at most (|v| + |a| dt / 2) dt). Call built() or kept() after it, as the step went.
@@ -22,6 +23,10 @@ public:
     void built() { moved_ = 0, ++builds_, age_ = 0; }  // also the first tables, before the first step
     void kept(double dt, double max_speed2, double max_accel2) { moved_ += bound(dt, max_speed2, max_accel2), ++age_; }
     double moved() const { return moved_; }    // the bound on any particle's move since the last build, m
+    // moved() after a kept step of dt (what kept() will make it).
+    double moved_after(double dt, double max_speed2, double max_accel2) const {
+        return moved_ + bound(dt, max_speed2, max_accel2);
+    }
     std::size_t builds() const { return builds_; }  // since the start (the first tables included)
     std::size_t age() const { return age_; }          // steps since the last build
 

@@ -9,6 +9,7 @@
 #include "balance/balancer.hpp"
 #include "cl/async.hpp"
 #include "cl/device.hpp"
+#include "cl/relay.hpp"
 #include "clsph/checkpoint.hpp"
 #include "clsph/interaction.hpp"
 #include "clsph/scene.hpp"
@@ -27,6 +28,7 @@
 
 #include <array>
 #include <fstream>
+#include <map>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -83,18 +85,36 @@ public:
     // Slab d's owned particles whose id is divisible by stride, in the box if any (device/thin_download.hpp).
     Particles download_every(std::size_t d, std::uint32_t stride, const std::optional<std::array<double, 6>>& box);
 
-    // The step ahead (one device with a clock: docs/multi_device.md): a whole step enqueued with
-    // no host wait; its record (device::StepRecord) is read into `record` once `done` is waited for.
-    // (Leap-frog only: a Symplectic step has two exchanges; none with floating bodies, whose forces
-    // the host sums each step.)
+    // The step ahead (docs/multi_device.md): a whole step enqueued with no host wait; each device's
+    // record (device::StepRecord) is read into records[d] once `done` is waited for. On one device
+    // with a clock; on several with the cell tables kept over steps (run.list_buffer: the steps
+    // ahead keep them; a step that must build them halts, kHaltLists, and the host takes it
+    // synchronously with step()). Leap-frog only: a Symplectic step has two exchanges; none with
+    // floating bodies, whose forces the host sums each step.
     bool can_step_ahead(bool synchronous, std::size_t steps_ahead) const {
-        return slabs_.size() == 1 && !across_ranks() && !bodies_ && feed_.empty() && !outlet_zones_ && !lists_.on() &&
-               device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(),
-                                                               slabs_[0].physics->has_clock(),
-                                                               slabs_[0].physics->symplectic());
+        bool clocks = true;
+        for (const auto& s : slabs_) clocks = clocks && s.physics && s.physics->has_clock();
+        // Copies across contexts complete user events (cl/relay.hpp), which stops pocl's basic device.
+        for (const auto& s : slabs_)
+            clocks = clocks && (slabs_.size() == 1 || !s.device->quirks().user_events_stop);
+        return !across_ranks() && !bodies_ && feed_.empty() && !outlet_zones_ &&
+               device::sizing::step_ahead(synchronous, steps_ahead, slabs_.size(), clocks, symplectic_, lists_.on());
     }
-    void set_clock(double time, double next_dt, double event) { slabs_[0].physics->set_clock(time, next_dt, event); }
-    void enqueue_step_ahead(std::size_t slot, double* record, cl_rt::EventSet& done);
+    // Before the first step ahead: `slots` steps in flight at most, the probe points sampled in the
+    // queue (each on the slab that owns it: probe_owners() says which, in point order).
+    void start_ahead(std::size_t slots, const std::vector<std::array<double, 3>>& probe_points);
+    const std::vector<std::vector<std::size_t>>& probe_owners() const { return probe_owners_; }
+    // With nothing in flight: every device's clock (and the kept tables' bound from 0, and the
+    // probes' owners, for the cuts of the last build), then steps ahead again.
+    void set_clock(double time, double next_dt, double event);
+    // run.list_buffer: whether the step of dt after the last one taken must build the tables.
+    bool builds_next(double dt) const { return lists_.on() && lists_.due(dt, last_kick_.max_speed2, last_kick_.max_accel2); }
+    void enqueue_step_ahead(std::size_t slot, const std::vector<double*>& records, cl_rt::EventSet& done);
+    // A step ahead taken (its record, over every device): the kept tables' bound, the balancer's
+    // force times once nothing is in flight.
+    void took_step_ahead(double dt, const device::KickResult& kick, bool idle);
+    // Steps enqueued that halted (changed nothing): uncounted.
+    void dropped_steps_ahead(std::size_t n) { steps_ -= n; }
     // After a step halted on the cell tables' bound: tables grown to `cells`, the step again from
     // its settle (its drift is done; the steps after it changed nothing and are uncounted).
     void redo_step_ahead(std::size_t cells, std::size_t uncounted, std::size_t slot, double* record,
@@ -154,6 +174,14 @@ private:
     StepOutcome reductions(cl_rt::EventSet& kicked);
     // With `drift`: the step's first kick and drift in the cell pass's first launch (fused).
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done, bool drift);
+    // A step ahead with the cell tables kept, on every device (multi/slab_driver_ahead.cpp).
+    void kept_step_ahead(std::size_t slot, const std::vector<double*>& records, cl_rt::EventSet& done);
+    std::unique_ptr<cl_rt::Relay> relay_;  // the steps ahead's copies between devices
+    // Staging of the step sums' copies across contexts: per sender, receiver and slot.
+    std::map<std::array<std::size_t, 3>, std::unique_ptr<cl_rt::PinnedHost>> sums_staging_;
+    std::vector<std::vector<std::size_t>> probe_owners_;  // per slab: the probe points it samples
+    std::size_t slots_ = 0;  // steps in flight at most
+    std::vector<std::array<double, 3>> probe_points_;
     // The force pass of device d (forces: on its thread after the exchange; interior_forces: the
     // part the exchange runs while the arrivals travel), each repeated as the slowdown seam says.
     int force_repeats(std::size_t d) const;

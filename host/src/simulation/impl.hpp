@@ -3,7 +3,7 @@
 //   setup       the devices opened after the memory plan, the slab driver and its first pass
 //   RunState    where the run stands (the step's figures, the next dt, the last good time)
 //   Failures    the errors a bad particle, a collapsed step or a failed device stop the run with
-//   StepRunner  the synchronous step          StepAhead  steps run ahead of the host (one device)
+//   StepRunner  the synchronous step          StepAhead  steps run ahead of the host
 //   Downloads   particles to the host, and the last good state
 //   FrameCache  what images are drawn with on each device, kept from frame to frame
 //   DeviceParts the free surface's buffers on each device, sized by capacities kept likewise
@@ -54,7 +54,7 @@ struct Simulation::Impl {
           driver(*opened.driver),
           failures(scene, options, driver, state),
           runner(scene, driver, state, failures),
-          ahead(scene, options, driver, state, failures),
+          ahead(scene, options, driver, state, failures, runner),
           downloads(driver, state, std::move(source.particles), std::move(source.plan)) {
         const auto& k = opened.first;
         if (k.kick.bad_index >= 0) failures.bad_particle(k);
