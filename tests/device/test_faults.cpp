@@ -130,3 +130,47 @@ TEST_SUITE("faults") {
         }
     }
 }
+
+// The step ahead on several devices (docs/multi_device.md): three pocl pthread devices (the suite's
+// environment), the cell tables kept, the copies between devices through the relay's thread and
+// user events. A launch or a read failing there (the read may be a copy's, staged for the relay)
+// must come back as the same DeviceError, not leave a device waiting for a copy that never comes.
+TEST_SUITE("faults_ahead") {
+    TEST_CASE("a launch or a read failing while steps run ahead on three devices: a DeviceError naming it, no device left waiting") {
+        REQUIRE_MESSAGE(test::devices().size() >= 3, "needs three devices (POCL_DEVICES=\"pthread pthread pthread\")");
+        Scene scene = small_scene();
+        const double dp = scene.physics.dp;
+        scene.domain.max[1] = 10 * dp;  // the period: three cells of a support and the buffer
+        scene.walls.front().max[1] = 9 * dp;
+        scene.fluids.front().max[1] = 9.5 * dp;
+        scene.domain.split_axis = 0;
+        scene.run.list_buffer = 0.1;
+        const testing::Fault faults[] = {{testing::FaultCall::enqueue, 300, 2, 0}, {testing::FaultCall::read, 400, 0, 0}};
+        for (const auto& fault : faults) {
+            const bool launch = fault.call == testing::FaultCall::enqueue;
+            CAPTURE(launch);
+            Options o = with_fault(3, fault);
+            o.synchronous = false;
+            Simulation sim(scene, o);
+            REQUIRE(sim.steps_ahead());
+            const std::size_t particles = sim.info().particles;
+            (void)sim.particles();  // the last good state: t = 0
+            try {
+                for (int f = 1; f < 400; ++f) {
+                    sim.run_until(f * 0.001);
+                    (void)sim.particles();
+                }
+                FAIL("the fault never came");
+            } catch (const DeviceError& e) {
+                const std::string m = e.what();
+                CAPTURE(m);
+                CHECK(e.code() == -5);  // CL_OUT_OF_RESOURCES
+                CHECK(e.call() == (launch ? "clEnqueueNDRangeKernel" : "clEnqueueReadBuffer"));
+                CHECK(e.device() == label_of(3, fault.device));
+                CHECK(m.rfind("step ", 0) == 0);
+            }
+            CHECK(sim.info().step > 10);  // (well into the run: steps ahead were taken)
+            CHECK(sim.last_good().size() == particles);
+        }
+    }
+}

@@ -14,6 +14,7 @@ Relay::~Relay() {
     {
         std::lock_guard<std::mutex> lock(shared_->m);
         shared_->stop = true;
+        shared_->give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
     }
     shared_->cv.notify_all();
     thread_.join();
@@ -164,7 +165,10 @@ void Relay::run() {
             polling = polling || (j->writing ? j->write_polled : j->polled);
         }
         if (!job) {
-            if (shared_->stop) return;  // (jobs still waiting: their devices failed or the run ended)
+            // Stopping: once nothing is left, or nothing has moved for two seconds (a failed
+            // device's reads that never end; the destructor fails what is left).
+            if (shared_->stop && (shared_->jobs.empty() || std::chrono::steady_clock::now() > shared_->give_up)) return;
+            if (shared_->stop) polling = true;
             if (polling)
                 shared_->cv.wait_for(lock, std::chrono::microseconds(20));
             else
@@ -219,6 +223,7 @@ void Relay::run() {
         }
         // Written (or failed): the receiver's queue goes on (or fails from here).
         shared_->jobs.erase(std::find(shared_->jobs.begin(), shared_->jobs.end(), job));
+        shared_->give_up = std::chrono::steady_clock::now() + std::chrono::seconds(2);
         lock.unlock();
         try {
             job->done.setStatus(status == CL_COMPLETE ? CL_COMPLETE : status < 0 ? status : CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST);

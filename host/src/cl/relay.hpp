@@ -17,6 +17,7 @@
 #include "cl/cl.hpp"
 #include "cl/memory.hpp"
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -35,6 +36,8 @@ class Device;
 class Relay {
 public:
     Relay() = default;
+    // Waits for the copies in flight (a copy whose source never completes: two seconds, then its
+    // receiver's queue is failed).
     ~Relay();
     Relay(const Relay&) = delete;
     Relay& operator=(const Relay&) = delete;
@@ -77,6 +80,7 @@ private:
         std::condition_variable cv;
         std::deque<std::shared_ptr<Job>> jobs;
         bool stop = false;
+        std::chrono::steady_clock::time_point give_up;  // stopping: when to leave what is left
     };
     std::shared_ptr<Shared> shared_;
     std::thread thread_;

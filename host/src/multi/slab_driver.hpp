@@ -176,7 +176,6 @@ private:
     void tables_forces_kick_ahead(std::size_t slot, double* record, cl_rt::EventSet& done, bool drift);
     // A step ahead with the cell tables kept, on every device (multi/slab_driver_ahead.cpp).
     void kept_step_ahead(std::size_t slot, const std::vector<double*>& records, cl_rt::EventSet& done);
-    std::unique_ptr<cl_rt::Relay> relay_;  // the steps ahead's copies between devices
     // Staging of the step sums' copies across contexts: per sender, receiver and slot.
     std::map<std::array<std::size_t, 3>, std::unique_ptr<cl_rt::PinnedHost>> sums_staging_;
     std::vector<std::vector<std::size_t>> probe_owners_;  // per slab: the probe points it samples
@@ -241,6 +240,9 @@ private:
     std::uint64_t steps_ = 0;
     bool symplectic_ = false;
     std::size_t removed_at_upload_ = 0;
+    // The steps ahead's copies between devices. Last: destroyed first, it finishes the copies in
+    // flight while the slabs and the staging they read still exist.
+    std::unique_ptr<cl_rt::Relay> relay_;
 };
 
 }  // namespace clsph::multi
