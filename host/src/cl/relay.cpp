@@ -41,7 +41,7 @@ struct CallbackArg {
     std::shared_ptr<void> shared;  // keeps the relay's queue alive for a callback that comes late
     std::function<void(cl_int)> signal;
 };
-void CL_CALLBACK signal_read(cl_event, cl_int status, void* user) {
+void CL_CALLBACK signal_done(cl_event, cl_int status, void* user) {
     std::unique_ptr<CallbackArg> arg(static_cast<CallbackArg*>(user));
     arg->signal(status);
 }
@@ -86,41 +86,41 @@ void Relay::copy(Device& from, Device& to, const std::vector<Piece>& pieces, Pin
     check(to.queue().enqueueMarkerWithWaitList(nullptr, &job->after), "marking a copy's place", to.label());
     const std::vector<cl::Event> wait{job->done};
     check(to.queue().enqueueBarrierWithWaitList(&wait, nullptr), "waiting for a copy from " + from.label(), to.label());
-    if (from.quirks().late_transfer_callbacks) {
-        // Its callbacks come late (cl/quirks.hpp): the relay's thread looks at the read's status.
-        job->polled = true;
-        {
-            std::lock_guard<std::mutex> lock(shared_->m);
-            shared_->jobs.push_back(job);
-        }
-        shared_->cv.notify_all();
-        check(from.queue().flush(), "submitting a copy's source", from.label());
-        return;
-    }
     {
         std::lock_guard<std::mutex> lock(shared_->m);
         shared_->jobs.push_back(job);
     }
-    auto shared = shared_;
-    auto* arg = new CallbackArg{shared, [shared, job](cl_int status) {
-                                    {
-                                        std::lock_guard<std::mutex> lock(shared->m);
-                                        job->status = status < 0 ? status : CL_COMPLETE;
-                                    }
-                                    shared->cv.notify_all();
-                                }};
-    cl_int err = CL_SUCCESS;
-    try {
-        err = job->ready.setCallback(CL_COMPLETE, &signal_read, arg);
-    } catch (const cl::Error& e) {
-        err = e.err();
-    }
-    if (err != CL_SUCCESS) {  // no callback: the relay's thread looks at the read's status instead
-        delete arg;
-        std::lock_guard<std::mutex> lock(shared_->m);
-        job->polled = true;
-    }
+    watch(job->ready, job, &Job::status, &Job::polled, from.quirks().late_transfer_callbacks);
     check(from.queue().flush(), "submitting a copy's source", from.label());
+}
+
+void Relay::watch(const cl::Event& event, const std::shared_ptr<Job>& job, cl_int Job::*status, bool Job::*polled,
+                  bool late) {
+    // The event's completion sets job->*status and wakes the relay's thread; where callbacks come
+    // late (cl/quirks.hpp) or cannot be set, the thread looks at the event's status instead.
+    if (!late) {
+        auto shared = shared_;
+        auto* arg = new CallbackArg{shared, [shared, job, status](cl_int st) {
+                                        {
+                                            std::lock_guard<std::mutex> lock(shared->m);
+                                            (*job).*status = st < 0 ? st : CL_COMPLETE;
+                                        }
+                                        shared->cv.notify_all();
+                                    }};
+        cl_int err = CL_SUCCESS;
+        try {
+            err = cl::Event(event).setCallback(CL_COMPLETE, &signal_done, arg);
+        } catch (const cl::Error& e) {
+            err = e.err();
+        }
+        if (err == CL_SUCCESS) return;
+        delete arg;
+    }
+    {
+        std::lock_guard<std::mutex> lock(shared_->m);
+        (*job).*polled = true;
+    }
+    shared_->cv.notify_all();
 }
 
 cl::CommandQueue& Relay::queue_for(Device* from, Device& to) {
@@ -191,29 +191,7 @@ void Relay::run() {
                     at += p.bytes;
                 }
                 check(queue.flush(), "submitting a copy from another device", to.label());
-                if (to.quirks().late_transfer_callbacks) {
-                    job->write_polled = true;
-                } else {
-                    auto shared = shared_;
-                    auto* arg = new CallbackArg{shared, [shared, job](cl_int st) {
-                                                    {
-                                                        std::lock_guard<std::mutex> l(shared->m);
-                                                        job->written_status = st < 0 ? st : CL_COMPLETE;
-                                                    }
-                                                    shared->cv.notify_all();
-                                                }};
-                    cl_int err = CL_SUCCESS;
-                    try {
-                        err = job->written.setCallback(CL_COMPLETE, &signal_read, arg);
-                    } catch (const cl::Error& e) {
-                        err = e.err();
-                    }
-                    if (err != CL_SUCCESS) {
-                        delete arg;
-                        std::lock_guard<std::mutex> l(shared_->m);
-                        job->write_polled = true;
-                    }
-                }
+                watch(job->written, job, &Job::written_status, &Job::write_polled, to.quirks().late_transfer_callbacks);
             } catch (const std::exception&) {
                 std::lock_guard<std::mutex> l(shared_->m);
                 job->written_status = CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST;

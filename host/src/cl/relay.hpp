@@ -73,6 +73,7 @@ private:
     void run();  // the relay's thread
     void start();
     cl::CommandQueue& queue_for(Device* from, Device& to);  // the relay's thread only
+    void watch(const cl::Event& event, const std::shared_ptr<Job>& job, cl_int Job::*status, bool Job::*polled, bool late);
     std::map<std::pair<Device*, Device*>, cl::CommandQueue> queues_;
 
     struct Shared {
