@@ -30,6 +30,18 @@ void print_summary(std::ostream& os, const RunTotals& t) {
                       static_cast<double>(t.steps) / static_cast<double>(t.table_builds), t.list_buffer);
         os << text;
     }
+    if (t.steps > 0) {
+        if (t.steps_ahead > 0)
+            std::snprintf(text, sizeof text,
+                          "  steps ahead of the host: %llu of %llu (%.1f %%; the others waited for: tables built, "
+                          "particles exchanged)\n",
+                          static_cast<unsigned long long>(t.steps_ahead), static_cast<unsigned long long>(t.steps),
+                          100.0 * static_cast<double>(t.steps_ahead) / steps);
+        else
+            std::snprintf(text, sizeof text, "  steps ahead of the host: none (each step waited for: "
+                                             "docs/multi_device.md, \"The step ahead\", says when they run ahead)\n");
+        os << text;
+    }
     os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
        << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";
 }

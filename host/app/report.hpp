@@ -24,6 +24,8 @@ struct RunTotals {
     // run.list_buffer > 0: the cell tables' builds since the start and the buffer (else 0: every step).
     std::size_t table_builds = 0;
     double list_buffer = 0.0;
+    // Of `steps`, those taken ahead of the host (the rest waited for on the host).
+    std::uint64_t steps_ahead = 0;
 };
 
 void print_summary(std::ostream& os, const RunTotals& t);

@@ -249,6 +249,7 @@ std::string RunRecord::json_text(const Ending& e) const {
           << "  \"particles\": " << last->particles << ",\n"
           << "  \"removed\": " << last->removed << ",\n";
         if (table_builds_ > 0) j << "  \"table_builds\": " << table_builds_ << ",\n";
+        j << "  \"steps_ahead\": " << steps_ahead_ << ",\n";
     }
     if (!last_bodies_.empty()) {  // floating bodies: their state at the last row written
         j << "  \"bodies\": [";

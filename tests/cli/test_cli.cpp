@@ -156,6 +156,33 @@ TEST_CASE("run.list_buffer: the summary and run.json say how often the cell tabl
     CHECK(run_json.at("scene").at("run").at("list_buffer") == 0.2);
 }
 
+TEST_CASE("the summary and run.json say how many steps ran ahead of the host") {
+    // One device (the first: steps ahead on any device with fp64), tables kept with a buffer small
+    // enough for several builds in 60 steps: the builds after the first (set-up) are the steps
+    // waited for, every other step runs ahead. With --synchronous none does.
+    for (const bool synchronous : {false, true}) {
+        CAPTURE(synchronous);
+        const std::string out = work_dir(synchronous ? "ahead_sync" : "ahead");
+        std::vector<std::string> more = {"--devices", "0", "--set", "run.list_buffer=0.02", "--steps", "60", "--every", "1", "--out", out};
+        if (synchronous) more.push_back("--synchronous");
+        std::string log;
+        const int code = run(args({{"run", scene}, tiny, more}), log);
+        INFO(log);
+        REQUIRE(code == 0);
+        const auto run_json = read_json(out + "/run.json");
+        const std::size_t builds = run_json.at("table_builds").get<std::size_t>();
+        const std::size_t ahead = run_json.at("steps_ahead").get<std::size_t>();
+        if (synchronous) {
+            CHECK(ahead == 0);
+            CHECK(log.find("steps ahead of the host: none") != std::string::npos);
+            continue;
+        }
+        CHECK(builds > 2);
+        CHECK(ahead + (builds - 1) == 60);
+        CHECK(log.find("steps ahead of the host: " + std::to_string(ahead) + " of 60") != std::string::npos);
+    }
+}
+
 TEST_CASE("Ctrl-C ends the run after a whole step, with a final frame") {
     const std::string out = work_dir("interrupted");
     fs::create_directories(CLSPH_CLI_WORK);

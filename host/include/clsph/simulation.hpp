@@ -187,6 +187,10 @@ public:
     std::vector<CommandSpan> take_trace();   // commands since the last call (Options::trace)
     // Whether steps run ahead of the host (Options::synchronous off, one device with cl_khr_fp64).
     bool steps_ahead() const;
+    // How many of the steps since this Simulation was made ran ahead of the host; the others were
+    // waited for (the steps that build the cell tables or exchange particles between devices, and
+    // every step where steps_ahead() is false).
+    std::uint64_t steps_taken_ahead() const;
     std::vector<MemoryReport> memory() const;
 
     struct Impl;

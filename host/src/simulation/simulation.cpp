@@ -84,6 +84,7 @@ Particles Simulation::particles(const Selection& which) { return impl_->download
 const Particles& Simulation::last_good() const { return impl_->downloads.last_good(); }
 
 bool Simulation::steps_ahead() const { return impl_->ahead.on(); }
+std::uint64_t Simulation::steps_taken_ahead() const { return impl_->ahead.taken(); }
 const StepInfo& Simulation::info() const { return impl_->state.info; }
 double Simulation::time() const { return impl_->state.info.time; }
 const Scene& Simulation::scene() const { return impl_->scene; }

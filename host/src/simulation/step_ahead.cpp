@@ -112,6 +112,7 @@ device::StepRecord StepAhead::wait_oldest() {
 }
 
 void StepAhead::apply(const device::StepRecord& r) {
+    ++taken_;
     state_.info.step += 1;
     state_.info.time += r.dt;
     state_.info.dt = r.dt;
