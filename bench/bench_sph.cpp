@@ -199,6 +199,10 @@ int main(int argc, char** argv) {
                             : "\ndevice time in kernels: %.2f ms/step of %.2f ms/step wall\n", 1e3 * total / steps, 1e3 * wall / steps);
         std::printf("the rest (host, waits, gaps between launches): %.1f %% of the step; steps %s\n",
                     100.0 * (1.0 - total / wall), sim.steps_ahead() ? "ahead of the host" : "synchronous");
+        if (sim.steps_ahead())
+            std::printf("steps taken ahead of the host: %llu; computed ahead and thrown away: %llu\n",
+                        static_cast<unsigned long long>(sim.steps_taken_ahead()),
+                        static_cast<unsigned long long>(sim.steps_thrown_ahead()));
         const auto shares = sim.shares();
         if (shares.size() > 1) {
             std::printf("\nhost wall time per step phase (ms/step):\n");

@@ -34,9 +34,10 @@ void print_summary(std::ostream& os, const RunTotals& t) {
         if (t.steps_ahead > 0)
             std::snprintf(text, sizeof text,
                           "  steps ahead of the host: %llu of %llu (%.1f %%; the others waited for: tables built, "
-                          "particles exchanged)\n",
+                          "particles exchanged); %llu more computed ahead and thrown away\n",
                           static_cast<unsigned long long>(t.steps_ahead), static_cast<unsigned long long>(t.steps),
-                          100.0 * static_cast<double>(t.steps_ahead) / steps);
+                          100.0 * static_cast<double>(t.steps_ahead) / steps,
+                          static_cast<unsigned long long>(t.steps_thrown));
         else
             std::snprintf(text, sizeof text, "  steps ahead of the host: none (each step waited for: "
                                              "docs/multi_device.md, \"The step ahead\", says when they run ahead)\n");

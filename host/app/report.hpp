@@ -26,6 +26,7 @@ struct RunTotals {
     double list_buffer = 0.0;
     // Of `steps`, those taken ahead of the host (the rest waited for on the host).
     std::uint64_t steps_ahead = 0;
+    std::uint64_t steps_thrown = 0;  // computed ahead and thrown away (behind a halted step)
 };
 
 void print_summary(std::ostream& os, const RunTotals& t);

@@ -81,6 +81,7 @@ public:
         const auto start = clock::now();
         const std::uint64_t first_step = sim_.info().step;
         first_ahead_ = sim_.steps_taken_ahead();
+        first_thrown_ = sim_.steps_thrown_ahead();
         std::uint64_t next_frame = 1;
         const double eps = 1e-9 * plan_.every;
 
@@ -201,7 +202,7 @@ public:
         frames_.finish();
         totals_.loop_seconds = seconds_since(start);
         if (sim_.scene().run.list_buffer > 0) record_.table_builds(sim_.table_builds().builds);
-        record_.steps_ahead(sim_.steps_taken_ahead() - first_ahead_);
+        record_.steps_ahead(sim_.steps_taken_ahead() - first_ahead_, sim_.steps_thrown_ahead() - first_thrown_);
         record_.finish(totals_.outcome, sim_.info(), message, code, signal);
         disarm_abort_record();
         if (speaks(args_)) report(code, message, first_step);  // across ranks, rank 0 reports
@@ -238,6 +239,7 @@ private:
         totals_.list_buffer = sim_.scene().run.list_buffer;
         totals_.table_builds = sim_.table_builds().builds;
         totals_.steps_ahead = sim_.steps_taken_ahead() - first_ahead_;
+        totals_.steps_thrown = sim_.steps_thrown_ahead() - first_thrown_;
         print_summary(std::cout, totals_);
         if (surfaces_ && surfaces_->written() > 0) {
             if (surfaces_->meshes())
@@ -358,7 +360,7 @@ private:
     double next_checkpoint_ = args_.checkpoint_every ? *args_.checkpoint_every : 0.0;
     std::uint64_t last_checkpoint_step_ = ~std::uint64_t{0};
     std::string failed_device_, failure_message_;
-    std::uint64_t first_ahead_ = 0;  // steps_taken_ahead() when run() began
+    std::uint64_t first_ahead_ = 0, first_thrown_ = 0;  // steps_taken/thrown_ahead() when run() began
     const serve::RunHooks live_hooks_{[this] { return write_now(); }, [] { return interrupt_requested(); }};
 };
 

@@ -249,7 +249,8 @@ std::string RunRecord::json_text(const Ending& e) const {
           << "  \"particles\": " << last->particles << ",\n"
           << "  \"removed\": " << last->removed << ",\n";
         if (table_builds_ > 0) j << "  \"table_builds\": " << table_builds_ << ",\n";
-        j << "  \"steps_ahead\": " << steps_ahead_ << ",\n";
+        j << "  \"steps_ahead\": " << steps_ahead_ << ",\n"
+          << "  \"steps_thrown\": " << steps_thrown_ << ",\n";
     }
     if (!last_bodies_.empty()) {  // floating bodies: their state at the last row written
         j << "  \"bodies\": [";

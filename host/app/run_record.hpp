@@ -57,8 +57,9 @@ public:
     // run.list_buffer > 0: the cell tables' builds since this process started, for run.json
     // ("table_builds"; none otherwise).
     void table_builds(std::size_t builds) { table_builds_ = builds; }
-    // Of this process's steps, those taken ahead of the host (run.json "steps_ahead").
-    void steps_ahead(std::uint64_t steps) { steps_ahead_ = steps; }
+    // Of this process's steps, those taken ahead of the host (run.json "steps_ahead"), and the
+    // steps computed ahead and thrown away ("steps_thrown").
+    void steps_ahead(std::uint64_t taken, std::uint64_t thrown) { steps_ahead_ = taken, steps_thrown_ = thrown; }
     // Rewrites run.json with the outcome ("running", "completed", "interrupted", "failed") and the
     // last step reached; flushes the CSV streams so they are complete whatever happens next.
     // `exit_status` and `signal` (the signal that stopped the run, empty: none) go into run.json too.
@@ -92,7 +93,7 @@ private:
     std::vector<std::unique_ptr<std::ofstream>> body_files_;  // in Simulation::bodies() order
     std::vector<BodySample> last_bodies_;
     std::size_t table_builds_ = 0;
-    std::uint64_t steps_ahead_ = 0;
+    std::uint64_t steps_ahead_ = 0, steps_thrown_ = 0;
     bool resumed_ = false;
     double resume_time_ = 0;
     bool writes_ = true;

@@ -37,4 +37,21 @@ TEST_CASE("list schedule: a build is due once the bound on any move since the la
     CHECK(s.due(dt, std::numeric_limits<double>::quiet_NaN(), 0));
     CHECK(s.due(dt, std::numeric_limits<double>::infinity(), 0));
 }
+
+TEST_CASE("list schedule: the guess of how many more steps keep the tables, for the steps ahead") {
+    ListSchedule s(0.01);
+    s.built();
+    const double dt = 1e-3, v2 = 1.0, a2 = 1e4;  // 1.05 mm a step, as above: 9 steps kept
+    CHECK(s.likely_kept(9, dt, v2, a2, 1.0));
+    CHECK_FALSE(s.likely_kept(10, dt, v2, a2, 1.0));
+    CHECK(s.likely_kept(7, dt, v2, a2, 1.25));        // 7 x 1.3125 mm = 9.2 mm
+    CHECK_FALSE(s.likely_kept(8, dt, v2, a2, 1.25));  // 10.5 mm
+    for (int k = 0; k < 4; ++k) s.kept(dt, v2, a2);  // 4.2 mm gone
+    CHECK(s.likely_kept(4, dt, v2, a2, 1.25));        // + 5.25 mm
+    CHECK_FALSE(s.likely_kept(5, dt, v2, a2, 1.25));
+    CHECK_FALSE(s.likely_kept(1, dt, std::numeric_limits<double>::quiet_NaN(), 0, 1.25));
+    // Never more than due() allows: where due() says build, no step is likely kept.
+    while (!s.due(dt, v2, a2)) s.kept(dt, v2, a2);
+    CHECK_FALSE(s.likely_kept(1, dt, v2, a2, 1.0));
+}
 }

@@ -191,6 +191,10 @@ public:
     // waited for (the steps that build the cell tables or exchange particles between devices, and
     // every step where steps_ahead() is false).
     std::uint64_t steps_taken_ahead() const;
+    // Steps computed ahead of the host and thrown away since this Simulation was made: those in
+    // flight behind a step that halted (the cell tables to be built, or grown) or past an event.
+    // Their force passes cost time for nothing; the host enqueues no step past a build it foresees.
+    std::uint64_t steps_thrown_ahead() const;
     std::vector<MemoryReport> memory() const;
 
     struct Impl;

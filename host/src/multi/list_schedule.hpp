@@ -27,6 +27,14 @@ public:
     double moved_after(double dt, double max_speed2, double max_accel2) const {
         return moved_ + bound(dt, max_speed2, max_accel2);
     }
+    // A guess, for the steps ahead of the host: whether `steps` more kept steps of dt, each moving
+    // up to `margin` times what the last one's reductions allow, would still keep the tables.
+    // The host enqueues no further step ahead once this is false (every device halts a step that
+    // must build, and the steps in flight behind it are computed for nothing), and takes the last
+    // kept steps one at a time: the guess changes no result, only how far ahead steps run.
+    bool likely_kept(std::size_t steps, double dt, double max_speed2, double max_accel2, double margin) const {
+        return moved_ + static_cast<double>(steps) * margin * bound(dt, max_speed2, max_accel2) < half_buffer_;
+    }
     std::size_t builds() const { return builds_; }  // since the start (the first tables included)
     std::size_t age() const { return age_; }          // steps since the last build
 

@@ -109,7 +109,18 @@ public:
     void set_clock(double time, double next_dt, double event);
     // run.list_buffer: whether the step of dt after the last one taken must build the tables.
     bool builds_next(double dt) const { return lists_.on() && lists_.due(dt, last_kick_.max_speed2, last_kick_.max_accel2); }
+    // run.list_buffer: whether `steps` more steps of about dt after the last one taken will likely
+    // keep the tables (ListSchedule::likely_kept, a margin of kKeptMargin); always true otherwise.
+    bool likely_kept(std::size_t steps, double dt) const {
+        return !lists_.on() || lists_.likely_kept(steps, dt, last_kick_.max_speed2, last_kick_.max_accel2, kKeptMargin);
+    }
+    // Each step ahead may move the particles this much more than the last known step did before
+    // the host stops enqueueing: a step computed past a build is thrown away (a force pass for
+    // nothing), a step held back costs a host round trip.
+    static constexpr double kKeptMargin = 1.25;
     void enqueue_step_ahead(std::size_t slot, const std::vector<double*>& records, cl_rt::EventSet& done);
+    // With nothing in flight: no device halted (kernels/step_clock.cl), before a synchronous step.
+    void clear_halts();
     // A step ahead taken (its record, over every device): the kept tables' bound, the balancer's
     // force times once nothing is in flight.
     void took_step_ahead(double dt, const device::KickResult& kick, bool idle);

@@ -75,6 +75,10 @@ void SlabDriver::took_step_ahead(double dt, const device::KickResult& kick, bool
     if (idle) read_force_times();  // the balancer's input for the next build
 }
 
+void SlabDriver::clear_halts() {
+    for (auto& s : slabs_) s.physics->clear_halt();
+}
+
 void SlabDriver::enqueue_step_ahead(std::size_t slot, const std::vector<double*>& records, cl_rt::EventSet& done) {
     apply_seams();  // tests: a simulated failure
     if (lists_.on()) {

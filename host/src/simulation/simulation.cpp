@@ -85,6 +85,7 @@ const Particles& Simulation::last_good() const { return impl_->downloads.last_go
 
 bool Simulation::steps_ahead() const { return impl_->ahead.on(); }
 std::uint64_t Simulation::steps_taken_ahead() const { return impl_->ahead.taken(); }
+std::uint64_t Simulation::steps_thrown_ahead() const { return impl_->ahead.thrown(); }
 const StepInfo& Simulation::info() const { return impl_->state.info; }
 double Simulation::time() const { return impl_->state.info.time; }
 const Scene& Simulation::scene() const { return impl_->scene; }

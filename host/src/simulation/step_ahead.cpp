@@ -42,6 +42,10 @@ bool StepAhead::may_enqueue(double t, std::uint64_t last_step) const {
     if (j >= ring_.size()) return false;
     const std::uint64_t s = state_.info.step + j;  // the last step enqueued (or taken)
     if ((last_step && s >= last_step) || (options_.step_limit && s >= options_.step_limit)) return false;
+    // run.list_buffer: not past the build the kept tables will likely need (the steps behind a
+    // build halt and are thrown away); the first step in flight is always allowed (the host's
+    // builds_next said it keeps the tables).
+    if (j > 0 && !driver_.likely_kept(j + 1, state_.dt_next)) return false;
     // run_until takes the next step while the time is short of t; with j steps in flight, the time
     // before the next one is at most j * dt_max_ on.
     return state_.info.time + static_cast<double>(j) * dt_max_ * (1.0 + 1e-9) < t - 1e-12;
@@ -139,6 +143,7 @@ void StepAhead::drop_halted(double t, std::size_t already_taken) {
     std::size_t n = already_taken;
     for (; !in_flight_.empty(); ++n) wait_oldest();
     driver_.dropped_steps_ahead(n);
+    thrown_ += n;
     driver_.set_clock(state_.info.time, state_.dt_next, t);
 }
 
@@ -171,6 +176,10 @@ void StepAhead::run(double t, const std::function<void(const StepInfo&)>& on_ste
         if (in_flight_.empty() && !failed && driver_.builds_next(first_dt(t))) {
             if (!may_enqueue(t, last)) break;
             state_.dt_next = first_dt(t);  // as run_until lands on t
+            // The last step taken ahead halted every device for this build (its end_step saw the
+            // bound reach half the buffer), unless the host held back the steps behind it: the
+            // synchronous step's kernels must run.
+            driver_.clear_halts();
             runner_.step();
             driver_.set_clock(state_.info.time, state_.dt_next, t);
             if (on_step) on_step(state_.info);  // (nothing in flight: the state is this step's)
@@ -197,6 +206,7 @@ void StepAhead::run(double t, const std::function<void(const StepInfo&)>& on_ste
             // More non-empty cells than the tables hold: this step and the ones after it changed
             // nothing (kernels/step_clock.cl). Grow the tables and take this step again.
             const std::size_t dropped = in_flight_.size();
+            thrown_ += dropped + 1;
             while (!in_flight_.empty()) wait_oldest();
             next_slot_ = 0;
             in_flight_.push_back(next_slot_);
@@ -212,6 +222,7 @@ void StepAhead::run(double t, const std::function<void(const StepInfo&)>& on_ste
         }
         if (r.halt != 0) {  // past an event or a failure: nothing happened
             driver_.dropped_steps_ahead(1);
+            ++thrown_;
             continue;
         }
         if (r.kick.bad_index >= 0) {

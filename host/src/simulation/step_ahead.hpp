@@ -40,6 +40,9 @@ public:
     // Steps taken ahead of the host since the start (not the synchronous ones: table builds,
     // exchanges between devices).
     std::uint64_t taken() const { return taken_; }
+    // Steps computed ahead and thrown away: behind a step that halted (a build due, the tables
+    // full) or past an event.
+    std::uint64_t thrown() const { return thrown_; }
     // Steps to time t (at most max_steps; 0: no limit), every step's record taken in order.
     void run(double t, const std::function<void(const StepInfo&)>& on_step, std::uint64_t max_steps);
     // With nothing in flight: the particles that left the domain, dropped from the arrays.
@@ -91,7 +94,7 @@ private:
     std::size_t probe_points_ = 0;       // probes::sample_points' count
     std::vector<probes::Sums> probed_;   // the sums after step probed_step_
     std::uint64_t probed_step_ = ~std::uint64_t{0};
-    std::uint64_t taken_ = 0;
+    std::uint64_t taken_ = 0, thrown_ = 0;
 };
 
 }  // namespace clsph::simulation
