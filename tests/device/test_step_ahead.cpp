@@ -337,3 +337,33 @@ TEST_CASE("tables kept over steps: steps ahead on several devices and slabs take
     }
 }
 }
+
+TEST_SUITE("step_ahead") {
+TEST_CASE("step() after run_until: the synchronous steps run on devices the steps ahead left halted") {
+    // run_until stops the steps ahead at its time (every device halts past it) or before a build of
+    // the kept tables (halted for it): the synchronous step() after it must still move the particles.
+    for (const double buffer : {0.0, 0.1}) {
+        CAPTURE(buffer);
+        Scene scene = probed_dam();
+        scene.run.list_buffer = buffer;
+        const double dp = scene.physics.dp;  // the period 10 dp: three cells of a support and the buffer
+        scene.domain.max[1] = 10 * dp;
+        scene.walls.front().max[1] = 9 * dp;
+        scene.fluids.front().max[1] = 9.5 * dp;
+        State states[2];
+        std::uint64_t steps[2] = {0, 0};
+        for (int k = 0; k < 2; ++k) {
+            auto sim = make(scene, options(k == 0));
+            CHECK(sim->steps_ahead() == (k == 1));
+            for (int round = 0; round < 3; ++round) {
+                sim->run_until(0.004 * (round + 1));
+                for (int i = 0; i < 4; ++i) sim->step();
+            }
+            steps[k] = sim->info().step;
+            states[k] = state_of(*sim);
+        }
+        CHECK(steps[1] == steps[0]);
+        CHECK(differing(states[0], states[1]) == 0);
+    }
+}
+}
