@@ -31,17 +31,20 @@ void print_summary(std::ostream& os, const RunTotals& t) {
         os << text;
     }
     if (t.steps > 0) {
-        if (t.steps_ahead > 0)
+        const auto n = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+        if (t.steps_ahead == t.steps)
+            std::snprintf(text, sizeof text, "  steps ahead of the host: all %llu", n(t.steps));
+        else if (t.steps_ahead > 0)
             std::snprintf(text, sizeof text,
-                          "  steps ahead of the host: %llu of %llu (%.1f %%; the others waited for: tables built, "
-                          "particles exchanged); %llu more computed ahead and thrown away\n",
-                          static_cast<unsigned long long>(t.steps_ahead), static_cast<unsigned long long>(t.steps),
-                          100.0 * static_cast<double>(t.steps_ahead) / steps,
-                          static_cast<unsigned long long>(t.steps_thrown));
+                          "  steps ahead of the host: %llu of %llu (%.1f %%; the others, which built the cell tables "
+                          "or exchanged particles, waited for)",
+                          n(t.steps_ahead), n(t.steps), 100.0 * static_cast<double>(t.steps_ahead) / steps);
         else
             std::snprintf(text, sizeof text, "  steps ahead of the host: none (each step waited for: "
-                                             "docs/multi_device.md, \"The step ahead\", says when they run ahead)\n");
+                                             "docs/multi_device.md, \"The step ahead\", says when they run ahead)");
         os << text;
+        if (t.steps_thrown > 0) os << "; " << t.steps_thrown << " more computed ahead and thrown away";
+        os << '\n';
     }
     os << "  output: " << t.frames << " frame" << (t.frames == 1 ? "" : "s") << " in " << t.out_dir
        << "; open " << t.collection << " in ParaView (File > Open, then Apply)\n";
